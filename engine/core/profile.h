@@ -1,0 +1,38 @@
+#pragma once
+// A render profile (profiles/*.json): data that selects resolutions, sizes,
+// budgets and kernels. Desktop and mobile differ only by these values.
+//
+// The engine validates its own keys; every other top-level key must be the
+// name of a registered plugin section (e.g. "atmosphere", "fog"), which that
+// plugin validates. Unknown keys anywhere are an error naming file and key.
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace cr {
+
+enum class Precision { Float32, Fixed16 };  // kernel family chosen at run time
+
+struct Profile {
+  std::string name;
+  std::string path;
+  int width = 1280;
+  int height = 720;
+  int tile_size = 64;             // screen tile edge in pixels (power of two, 8..256)
+  int shadow_map_size = 2048;     // 0 disables the shadow pass
+  float shadow_distance = 300.0f; // metres from the camera covered by the shadow map
+  int shadow_pcf_radius = 1;      // PCF kernel (2r+1)^2 taps
+  float frame_budget_ms = 33.3f;
+  Precision precision = Precision::Float32;
+  nlohmann::json plugins = nlohmann::json::object();  // raw plugin sections by name
+};
+
+// Loads and validates a profile file. `plugin_sections` lists the section
+// names that registered plugins accept. Throws InputError.
+Profile load_profile(const std::string& path, const std::vector<std::string>& plugin_sections);
+// Same, from an already parsed document (`path` is used in messages).
+Profile parse_profile(const nlohmann::json& doc, const std::string& path,
+                      const std::vector<std::string>& plugin_sections);
+
+}  // namespace cr

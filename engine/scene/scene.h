@@ -1,0 +1,141 @@
+#pragma once
+// The in-memory scene: what the glTF loader produces and the renderer consumes.
+// Everything here has been validated; renderer code may index without checks.
+//
+// Conventions: glTF world space (metres, +Y up, right-handed). Geometry is
+// flattened: every (node, mesh primitive) pair becomes one Draw with its world
+// matrix. Triangles only (strips/fans converted at load); indices are 32-bit.
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+namespace cr {
+
+enum class Wrap : uint8_t { Repeat, ClampToEdge, MirroredRepeat };
+enum class Filter : uint8_t { Nearest, Linear };
+
+struct Sampler {
+  Wrap wrap_s = Wrap::Repeat;
+  Wrap wrap_t = Wrap::Repeat;
+  Filter mag = Filter::Linear;
+  Filter min = Filter::Linear;         // filter within a mip level
+  std::optional<Filter> mip;           // nullopt: no mipmapping (base level only)
+};
+
+// One mip level of an RGBA8 image.
+struct MipLevel {
+  int width = 0;
+  int height = 0;
+  std::vector<uint8_t> rgba;  // width*height*4
+};
+
+// A decoded image with its full mip chain (generated at load, box filter in
+// linear space for sRGB images). Colour space is decided by the material slot
+// that uses it: base colour and emissive are sRGB, the others linear.
+struct Image {
+  std::string name;
+  bool srgb = false;
+  std::vector<MipLevel> mips;  // mips[0] is full resolution, down to 1x1
+};
+
+struct TextureRef {
+  int image = -1;     // index into Scene::images, -1 = none
+  int sampler = -1;   // index into Scene::samplers, -1 = default sampler
+  int texcoord = 0;   // only TEXCOORD_0 is loaded; other sets are rejected at load
+  float scale = 1.0f; // normalTexture.scale or occlusionTexture.strength
+  bool valid() const { return image >= 0; }
+};
+
+enum class AlphaMode : uint8_t { Opaque, Mask, Blend };
+
+struct Material {
+  std::string name;
+  glm::vec4 base_color_factor{1.0f};
+  TextureRef base_color;
+  float metallic_factor = 1.0f;
+  float roughness_factor = 1.0f;
+  TextureRef metallic_roughness;  // G = roughness, B = metallic
+  TextureRef normal;              // scale in TextureRef::scale
+  TextureRef occlusion;           // strength in TextureRef::scale
+  glm::vec3 emissive_factor{0.0f};
+  TextureRef emissive;
+  AlphaMode alpha_mode = AlphaMode::Opaque;
+  float alpha_cutoff = 0.5f;
+  bool double_sided = false;
+};
+
+// Vertex streams of one primitive, all of equal length. Optional streams are
+// empty when absent (normals are always generated; tangents are generated when
+// the material has a normal map and the file has none).
+struct Primitive {
+  std::vector<glm::vec3> positions;
+  std::vector<glm::vec3> normals;
+  std::vector<glm::vec4> tangents;   // xyz tangent, w = bitangent sign
+  std::vector<glm::vec2> texcoords;  // TEXCOORD_0
+  std::vector<glm::vec4> colors;     // COLOR_0 (linear RGBA)
+  std::vector<uint32_t> indices;     // triangle list, 3 per triangle
+  int material = -1;                 // -1 = default material
+  glm::vec3 bounds_min{0.0f};        // object-space AABB
+  glm::vec3 bounds_max{0.0f};
+  size_t triangle_count() const { return indices.size() / 3; }
+};
+
+struct Mesh {
+  std::string name;
+  std::vector<Primitive> primitives;
+};
+
+// One primitive placed in the world.
+struct Draw {
+  int mesh = 0;
+  int primitive = 0;
+  glm::mat4 world{1.0f};
+  glm::mat3 normal_matrix{1.0f};  // inverse-transpose of world's upper 3x3
+  bool mirrored = false;          // det(world) < 0 flips the winding
+  glm::vec3 world_bounds_min{0.0f};
+  glm::vec3 world_bounds_max{0.0f};
+};
+
+// A perspective camera from the glTF file (placed by its node).
+struct GltfCamera {
+  std::string name;
+  glm::vec3 position{0.0f};
+  glm::vec3 forward{0.0f, 0.0f, -1.0f};
+  glm::vec3 up{0.0f, 1.0f, 0.0f};
+  float yfov_rad = 0.8f;
+  float znear = 0.1f;
+  std::optional<float> aspect;
+};
+
+// KHR_lights_punctual directional light, used as the sun.
+struct GltfSun {
+  glm::vec3 direction_to_sun{0.0f, 1.0f, 0.0f};  // unit, world space
+  glm::vec3 color{1.0f};
+  float intensity = 1.0f;  // lux
+};
+
+struct Scene {
+  std::string source;  // path of the glTF file
+  std::vector<Image> images;
+  std::vector<Sampler> samplers;
+  std::vector<Material> materials;
+  std::vector<Mesh> meshes;
+  std::vector<Draw> draws;
+  std::vector<GltfCamera> cameras;
+  std::optional<GltfSun> sun;
+  glm::vec3 bounds_min{0.0f};  // world AABB of all draws
+  glm::vec3 bounds_max{0.0f};
+
+  const Primitive& primitive(const Draw& d) const { return meshes[d.mesh].primitives[d.primitive]; }
+  size_t triangle_count() const {
+    size_t n = 0;
+    for (const Draw& d : draws) n += primitive(d).triangle_count();
+    return n;
+  }
+};
+
+}  // namespace cr

@@ -1,0 +1,60 @@
+#pragma once
+// A scene file (scenes/*.json): which glTF to load and how to view and light it.
+// Documented in README.md ("Scene files"). A bare .gltf/.glb path is also a
+// valid scene: camera from the glTF (or framing its bounds), sun from
+// KHR_lights_punctual (or a default), no plugin sections.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+#include <nlohmann/json.hpp>
+
+namespace cr {
+
+// Camera pose at a frame; poses between keys are interpolated (position
+// linearly, orientation by interpolating the look-at target). One key = static.
+struct CameraKey {
+  int frame = 0;
+  glm::dvec3 position{0.0, 2.0, 10.0};
+  glm::dvec3 target{0.0, 0.0, 0.0};
+  float vfov_deg = 60.0f;
+  bool cut = false;  // a camera cut happens at this key (no temporal history)
+};
+
+struct CameraSpec {
+  std::optional<int> gltf_camera;  // use the glTF camera with this index
+  std::vector<CameraKey> keys;     // explicit keys (used when no gltf_camera)
+  float znear = 0.1f;              // reversed-Z infinite projection: no far plane
+};
+
+// Sun direction per frame, interpolated between keys.
+struct SunKey {
+  int frame = 0;
+  float azimuth_deg = 0.0f;    // clockwise from +Z (north) towards +X (east)
+  float elevation_deg = 45.0f; // above the horizon; negative = below (night)
+};
+
+struct SunSpec {
+  std::vector<SunKey> keys;          // empty: glTF sun or the default
+  glm::vec3 color{1.0f};
+  float illuminance = 110000.0f;     // lux at the top of the atmosphere / unattenuated
+  bool from_gltf = false;
+};
+
+struct SceneDescription {
+  std::string path;       // the scene file (or the glTF path for a bare glTF)
+  std::string gltf_path;  // resolved relative to the scene file
+  CameraSpec camera;
+  SunSpec sun;
+  float exposure_ev100 = 15.0f;  // photographic exposure; pixel = L / (1.2 * 2^EV100)
+  glm::vec3 ambient{0.0f};      // fallback ambient radiance (cd/m^2) when no plugin supplies sky light
+  int frames = 1;               // default frame count of the scene (CLI overrides)
+  nlohmann::json plugins = nlohmann::json::object();  // "atmosphere", "fog", ... sections
+};
+
+// Loads a scene file or a bare .gltf/.glb. Throws InputError naming file and field.
+SceneDescription load_scene_description(const std::string& path,
+                                        const std::vector<std::string>& plugin_sections);
+
+}  // namespace cr

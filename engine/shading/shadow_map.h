@@ -1,0 +1,33 @@
+#pragma once
+// Sun shadow map: an orthographic depth image seen from the sun, fitted to the
+// part of the view frustum within Profile::shadow_distance, texel-snapped so it
+// does not shimmer when the camera moves. Rendered by the rasterizer
+// (depth-only, same fill rules); sampled with PCF by shading and by the fog.
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "engine/scene/camera.h"
+
+namespace cr {
+
+struct ShadowMap {
+  int size = 0;                 // size x size texels; 0 = no shadow map (everything lit)
+  glm::dvec3 origin{0.0};       // world origin the projection is relative to (texel-snapped)
+  glm::mat4 light_view_proj{1.0f};  // (world - origin) -> clip; ortho, z in [0,1], 1 = nearest the sun
+  float texel_world_size = 1.0f;    // metres per texel
+  float depth_range = 1.0f;         // metres covered by z in [0,1]
+  glm::vec3 direction_to_sun{0.0f, 1.0f, 0.0f};
+  int pcf_radius = 1;
+  std::vector<float> depth;     // size*size, reversed (1 = nearest the sun, 0 = empty)
+
+  // Fraction of the sun visible at a world point in [0, 1] (1 = lit). `normal`
+  // (unit, may be zero) drives the normal-offset and slope-scaled biases.
+  float visibility(const glm::vec3& world_pos, const glm::vec3& normal) const;
+};
+
+// Chooses the shadow projection for a view (does not render it).
+ShadowMap fit_shadow_map(const Camera& view, const glm::vec3& direction_to_sun, float shadow_distance,
+                         int size, int pcf_radius, const glm::vec3& scene_min, const glm::vec3& scene_max);
+
+}  // namespace cr
