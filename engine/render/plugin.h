@@ -75,15 +75,26 @@ class Plugin {
   virtual void report_frame(nlohmann::json& frame) { (void)frame; }
 };
 
+// A CLI command a plugin contributes (e.g. "sky-accuracy"). `run` gets the
+// arguments after the command name and returns the process exit code.
+struct PluginCommand {
+  std::string name;
+  std::string summary;  // one line for `cpurender --help`
+  std::function<int(const std::vector<std::string>& args)> run;
+};
+
 class PluginRegistry {
  public:
   using Factory = std::function<std::unique_ptr<Plugin>()>;
   void add(const std::string& name, Factory factory);
+  void add_command(PluginCommand command);
   std::vector<std::string> names() const;
   std::vector<std::unique_ptr<Plugin>> create_all() const;
+  const std::vector<PluginCommand>& commands() const { return commands_; }
 
  private:
   std::vector<std::pair<std::string, Factory>> factories_;
+  std::vector<PluginCommand> commands_;
 };
 
 }  // namespace cr

@@ -1,0 +1,68 @@
+#pragma once
+// Renders frames of a loaded scene: builds the frame graph each frame from
+// what the scene and plugins need (shadow, geometry, shade, plugin passes,
+// composite), runs it on the job system and keeps per-frame timing records.
+// Frames must be rendered in increasing order (plugins keep temporal state).
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "engine/core/job_system.h"
+#include "engine/core/profile.h"
+#include "engine/render/frame_buffers.h"
+#include "engine/render/frame_graph.h"
+#include "engine/render/plugin.h"
+#include "engine/scene/scene.h"
+#include "engine/scene/scene_description.h"
+#include "engine/shading/light_environment.h"
+#include "engine/shading/shadow_map.h"
+
+namespace cr {
+
+// Timing of one rendered frame.
+struct FrameRecord {
+  int frame = 0;
+  double frame_ms = 0.0;                 // wall time of the whole frame graph
+  std::vector<PassTiming> passes;        // executed passes, declaration order
+  std::vector<std::string> culled;       // passes removed by the graph compiler
+  std::vector<JobRecord> jobs;           // every job of the frame
+  nlohmann::json plugins = nlohmann::json::object();  // plugin report entries by plugin name
+};
+
+class Renderer {
+ public:
+  // Plugins are configured here; those the scene does not use are dropped.
+  Renderer(const Scene& scene, const SceneDescription& description, const Profile& profile,
+           std::vector<std::unique_ptr<Plugin>> plugins, JobSystem& jobs);
+  ~Renderer();
+
+  // The camera and sun of a frame (pure function of the scene description).
+  FrameView frame_view(int frame) const;
+  // Renders one frame into buffers(); returns its timing record.
+  const FrameRecord& render_frame(int frame);
+
+  const FrameBuffers& buffers() const { return buffers_; }
+  const ShadowMap& shadow_map() const { return shadow_; }
+  const LightEnvironment& light_environment() const { return light_; }
+  Plugin* plugin(const std::string& name) const;  // nullptr when absent or unused by the scene
+  const std::vector<std::unique_ptr<Plugin>>& plugins() const { return plugins_; }
+
+ private:
+  struct Geometry;  // the rasterizer's per-frame state
+  const Scene& scene_;
+  const SceneDescription& description_;
+  const Profile& profile_;
+  JobSystem& jobs_;
+  std::vector<std::unique_ptr<Plugin>> plugins_;
+  FrameBuffers buffers_;
+  ShadowMap shadow_;
+  LightEnvironment light_;
+  std::unique_ptr<Geometry> geometry_;
+  FrameRecord record_;
+  int last_frame_ = -1;
+  Camera last_camera_;
+};
+
+}  // namespace cr
