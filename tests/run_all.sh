@@ -1,0 +1,28 @@
+#!/usr/bin/env bash
+# The test command of the README: set-up, release build, all tests; then the
+# unit tests under AddressSanitizer+UndefinedBehaviorSanitizer and the
+# threading tests under ThreadSanitizer.
+#   tests/run_all.sh            everything (what CI runs)
+#   tests/run_all.sh --quick    release build and tests only
+set -euo pipefail
+cd "$(dirname "$0")/.."
+./tests/setup_debian.sh
+jobs=$(nproc)
+
+build_and_test() {  # dir, build type, sanitizer, ctest args...
+  local dir=$1 type=$2 san=$3; shift 3
+  cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE="$type" -DSANITIZE="$san" >/dev/null
+  cmake --build "$dir" -j"$jobs"
+  (cd "$dir" && ctest --output-on-failure -j"$jobs" "$@")
+}
+
+echo "== release build and all tests"
+build_and_test build Release ""
+[ "${1:-}" = "--quick" ] && exit 0
+
+echo "== AddressSanitizer + UndefinedBehaviorSanitizer"
+ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+  build_and_test build-asan RelWithDebInfo "address,undefined" -LE "slow"
+
+echo "== ThreadSanitizer (job system, frame graph, determinism across thread counts)"
+TSAN_OPTIONS=halt_on_error=1 build_and_test build-tsan RelWithDebInfo thread -R "threading|determinism"
