@@ -3,6 +3,7 @@
 // one clear error for anything else, and generated --help text.
 #include <map>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 

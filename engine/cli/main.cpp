@@ -2,4 +2,4 @@
 // composition root; the engine itself knows none of them.
 #include "engine/cli/commands.h"
 
-int main(int argc, char** argv) { return cr::run_cli(argc, argv); }
+int main(int argc, char** argv) { return cr::run_cli(argc, argv, cr::register_builtin_plugins); }

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <set>
 #include <sstream>
 
 #include "engine/core/error.h"
@@ -36,8 +37,25 @@ nlohmann::json load_json_file(const std::string& path) {
   in.seekg(0, std::ios::beg);
   std::string text(static_cast<size_t>(size), '\0');
   if (!in.read(text.data(), size)) throw InputError(path, "cannot read file");
+  // nlohmann keeps the last of repeated keys silently; a repeated key in an
+  // input file is almost always an editing mistake, so it is an error.
+  std::vector<std::set<std::string>> open_objects;
+  std::string duplicate;
+  auto check_keys = [&](int, nlohmann::json::parse_event_t event, nlohmann::json& parsed) {
+    if (event == nlohmann::json::parse_event_t::object_start) {
+      open_objects.emplace_back();
+    } else if (event == nlohmann::json::parse_event_t::object_end) {
+      open_objects.pop_back();
+    } else if (event == nlohmann::json::parse_event_t::key && duplicate.empty() &&
+               !open_objects.back().insert(parsed.get<std::string>()).second) {
+      duplicate = parsed.get<std::string>();
+    }
+    return true;
+  };
   try {
-    return nlohmann::json::parse(text);
+    nlohmann::json doc = nlohmann::json::parse(text, check_keys);
+    if (!duplicate.empty()) throw InputError(path, "key '" + duplicate + "' appears twice in one object");
+    return doc;
   } catch (const nlohmann::json::parse_error& e) {
     // e.what() carries "at line L, column C".
     throw InputError(path, std::string("malformed JSON: ") + e.what());

@@ -1,6 +1,7 @@
 #pragma once
 // Plain image containers passed between the renderer, file I/O and the
 // image comparison. Rows top to bottom, pixels left to right, interleaved.
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -14,11 +15,11 @@ struct ImageRGBf {
   std::vector<float> rgb;  // width * height * 3
 
   ImageRGBf() = default;
-  ImageRGBf(int w, int h) : width(w), height(h), rgb(static_cast<size_t>(w) * h * 3, 0.0f) {}
-  size_t pixel_count() const { return static_cast<size_t>(width) * static_cast<size_t>(height); }
-  float* pixel(int x, int y) { return rgb.data() + (static_cast<size_t>(y) * width + x) * 3; }
+  ImageRGBf(int w, int h) : width(w), height(h), rgb(static_cast<std::size_t>(w) * h * 3, 0.0f) {}
+  std::size_t pixel_count() const { return static_cast<std::size_t>(width) * static_cast<std::size_t>(height); }
+  float* pixel(int x, int y) { return rgb.data() + (static_cast<std::size_t>(y) * width + x) * 3; }
   const float* pixel(int x, int y) const {
-    return rgb.data() + (static_cast<size_t>(y) * width + x) * 3;
+    return rgb.data() + (static_cast<std::size_t>(y) * width + x) * 3;
   }
 };
 

@@ -13,12 +13,12 @@
 #define STB_IMAGE_IMPLEMENTATION
 #define STBI_ONLY_PNG
 #define STBI_NO_STDIO
-#include <stb_image.h>
+#include <stb/stb_image.h>  // via /usr/include: a system header, so its warnings stay quiet
 
 #define STB_IMAGE_WRITE_STATIC
 #define STB_IMAGE_WRITE_IMPLEMENTATION
 #define STBI_WRITE_NO_STDIO
-#include <stb_image_write.h>
+#include <stb/stb_image_write.h>
 
 namespace cr {
 namespace {

@@ -24,11 +24,13 @@ namespace cr {
 // Timing of one rendered frame.
 struct FrameRecord {
   int frame = 0;
+  double begin_us = 0.0;                 // job-system clock at frame start
   double frame_ms = 0.0;                 // wall time of the whole frame graph
   std::vector<PassTiming> passes;        // executed passes, declaration order
   std::vector<std::string> culled;       // passes removed by the graph compiler
   std::vector<JobRecord> jobs;           // every job of the frame
   nlohmann::json plugins = nlohmann::json::object();  // plugin report entries by plugin name
+  nlohmann::json raster = nlohmann::json::object();   // rasterizer counts (triangles, pixels)
 };
 
 class Renderer {

@@ -1,0 +1,81 @@
+// Command dispatch and the one place where errors become exit codes:
+// 0 success, 1 a check failed (compare/golden), 2 usage or input error.
+#include <cstdio>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "engine/cli/arg_parser.h"
+#include "engine/cli/cli_common.h"
+#include "engine/cli/commands.h"
+#include "engine/cli/compare_command.h"
+#include "engine/core/error.h"
+#include "engine/render/plugin.h"
+
+namespace cr {
+
+namespace {
+
+struct Command {
+  std::string name, summary;
+  std::function<int(const std::vector<std::string>&)> run;
+};
+
+std::vector<Command> all_commands(const PluginRegistry& registry) {
+  std::vector<Command> cmds = {
+      {"render", "render frames of a scene to PNG/EXR with a timing report and trace",
+       [&](const auto& a) { return render_command(a, registry); }},
+      {"bench", "benchmark the default scene and glTF files at 1 and all threads",
+       [&](const auto& a) { return bench_command(a, registry); }},
+      {"compare", "compare two images (PNG/EXR): metrics, FLIP, pass/fail, diff image",
+       [](const auto& a) { return compare_command(a); }},
+  };
+  for (const PluginCommand& c : registry.commands()) cmds.push_back({c.name, c.summary, c.run});
+  return cmds;
+}
+
+void print_help(const std::vector<Command>& cmds) {
+  std::cout << "usage: cpurender <command> [options]   (cpurender <command> --help for details)\n\ncommands:\n";
+  for (const Command& c : cmds) {
+    std::string left = "  " + c.name;
+    std::cout << left << std::string(left.size() < 18 ? 18 - left.size() : 1, ' ') << c.summary << "\n";
+  }
+}
+
+}  // namespace
+
+int run_cli(int argc, char** argv, const std::function<void(PluginRegistry&)>& register_plugins) {
+  PluginRegistry registry;
+  try {
+    register_plugins(registry);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "cpurender: internal error registering plugins: %s\n", e.what());
+    return 2;
+  }
+  const std::vector<Command> cmds = all_commands(registry);
+  if (argc < 2 || std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h") {
+    print_help(cmds);
+    return argc < 2 ? 2 : 0;
+  }
+  const std::string name = argv[1];
+  const std::vector<std::string> args(argv + 2, argv + argc);
+  for (const Command& c : cmds) {
+    if (c.name != name) continue;
+    try {
+      return c.run(args);
+    } catch (const UsageError& e) {
+      std::fprintf(stderr, "cpurender %s\n(see cpurender %s --help)\n", e.what(), name.c_str());
+      return 2;
+    } catch (const InputError& e) {
+      std::fprintf(stderr, "cpurender: error: %s\n", e.what());
+      return 2;
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "cpurender: error: %s\n", e.what());
+      return 2;
+    }
+  }
+  std::fprintf(stderr, "cpurender: unknown command '%s' (see cpurender --help)\n", name.c_str());
+  return 2;
+}
+
+}  // namespace cr

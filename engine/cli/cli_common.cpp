@@ -1,0 +1,116 @@
+#include "engine/cli/cli_common.h"
+
+#include "engine/cli/paths.h"
+#include "engine/core/error.h"
+#include "engine/output/exr_io.h"
+#include "engine/output/png_io.h"
+#include "engine/scene/gltf_loader.h"
+
+namespace cr {
+
+void add_scene_options(ArgParser& p) {
+  p.option("profile", "NAME|FILE", "render profile: a name in profiles/ or a .json path", "desktop")
+      .option("resolution", "WxH", "override the profile's resolution, e.g. 640x360")
+      .option("frames", "N", "number of frames (default: the scene's)")
+      .option("threads", "N", "worker threads including the main thread (default: all cores)")
+      .flag("allow-missing-images", "render with factor-only materials where image files are missing");
+}
+
+static std::pair<int, int> parse_resolution(const std::string& s) {
+  const size_t x = s.find('x');
+  int w = 0, h = 0;
+  try {
+    if (x != std::string::npos) {
+      size_t a = 0, b = 0;
+      w = std::stoi(s.substr(0, x), &a);
+      h = std::stoi(s.substr(x + 1), &b);
+      if (a != x || b != s.size() - x - 1) w = h = 0;
+    }
+  } catch (const std::exception&) {
+    w = h = 0;
+  }
+  if (w < 1 || h < 1 || w > 16384 || h > 16384)
+    throw UsageError("--resolution expects WxH with 1..16384 each, got '" + s + "'");
+  return {w, h};
+}
+
+RunSetup load_run(const std::string& scene_path, const std::string& profile, const PluginRegistry& registry,
+                  int width, int height, unsigned threads, bool allow_missing_images) {
+  RunSetup s;
+  const std::vector<std::string> sections = registry.names();
+  s.profile = load_profile(resolve_profile_path(profile), sections);
+  if (width > 0) {
+    s.profile.width = width;
+    s.profile.height = height;
+  }
+  s.description = load_scene_description(scene_path, sections);
+  GltfLoadOptions options;
+  options.allow_missing_images = allow_missing_images;
+  s.scene = std::make_shared<Scene>(load_gltf(s.description.gltf_path, options));
+  s.threads = threads > 0 ? threads : JobSystem::default_thread_count();
+  s.frames = s.description.frames;
+  return s;
+}
+
+RunSetup load_run_setup(const ArgParser& p, const PluginRegistry& registry) {
+  int w = 0, h = 0;
+  if (p.has("resolution")) std::tie(w, h) = parse_resolution(p.get("resolution"));
+  const unsigned threads = p.has("threads") ? unsigned(p.get_int("threads", 1, 1024)) : 0;
+  const std::string scene = p.positional().empty() ? default_scene_path() : p.positional()[0];
+  RunSetup s = load_run(scene, p.get("profile"), registry, w, h, threads, p.has("allow-missing-images"));
+  if (p.has("frames")) s.frames = p.get_int("frames", 1, 1000000);
+  return s;
+}
+
+RunReport make_run_report(const RunSetup& setup, const JobSystem& jobs) {
+  RunReport r;
+  r.scene = setup.description.path;
+  r.profile = setup.profile.path;
+  r.width = setup.profile.width;
+  r.height = setup.profile.height;
+  r.threads = jobs.thread_count();
+  r.frame_budget_ms = setup.profile.frame_budget_ms;
+  r.build.compiler = compiler_description();
+#ifdef NDEBUG
+  r.build.build_type = "optimised (NDEBUG)";
+#else
+  r.build.build_type = "debug (assertions on)";
+#endif
+  r.build.flags = "-ffp-contract=off -fno-fast-math";
+  r.extra["triangles"] = setup.scene->triangle_count();
+  r.extra["draws"] = setup.scene->draws.size();
+  return r;
+}
+
+ReportFrame to_report_frame(const FrameRecord& rec) {
+  ReportFrame f;
+  f.frame = rec.frame;
+  f.frame_ms = rec.frame_ms;
+  f.begin_us = rec.begin_us;
+  for (const PassTiming& p : rec.passes) f.passes.push_back({p.name, p.begin_us, p.end_us});
+  f.culled = rec.culled;
+  for (const JobRecord& j : rec.jobs) f.jobs.push_back({j.name, j.worker, j.begin_us, j.end_us});
+  f.plugins = rec.plugins;
+  f.plugins["raster"] = rec.raster;
+  return f;
+}
+
+void write_frame_png(const std::string& path, const FrameBuffers& b) {
+  Image8 img;
+  img.width = b.width;
+  img.height = b.height;
+  img.channels = 3;
+  img.data = b.display;
+  write_png(path, img);
+}
+
+void write_frame_exr(const std::string& path, const FrameBuffers& b) {
+  ExrImage img;
+  img.color = ImageRGBf(b.width, b.height);
+  for (size_t i = 0; i < b.color.size(); ++i)
+    for (int c = 0; c < 3; ++c) img.color.rgb[i * 3 + c] = b.color[i][c];
+  img.depth = b.distance;
+  write_exr(path, img);
+}
+
+}  // namespace cr

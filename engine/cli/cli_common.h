@@ -1,0 +1,45 @@
+#pragma once
+// What the render-like commands share: scene/profile/threads options, loading
+// a run's inputs, converting frame records into reports, writing frames.
+#include <memory>
+#include <string>
+
+#include "engine/cli/arg_parser.h"
+#include "engine/core/profile.h"
+#include "engine/output/timing_report.h"
+#include "engine/render/frame_buffers.h"
+#include "engine/render/plugin.h"
+#include "engine/render/renderer.h"
+#include "engine/scene/scene.h"
+#include "engine/scene/scene_description.h"
+
+namespace cr {
+
+struct RunSetup {
+  SceneDescription description;
+  Profile profile;
+  std::shared_ptr<Scene> scene;
+  unsigned threads = 1;
+  int frames = 1;
+};
+
+// --profile, --resolution, --frames, --threads, --allow-missing-images.
+void add_scene_options(ArgParser& p);
+// Loads scene (positional 0 or the default scene), profile and glTF, applying overrides.
+RunSetup load_run_setup(const ArgParser& p, const PluginRegistry& registry);
+// Loads the inputs of one run without a command line (benchmarks, golden tests).
+RunSetup load_run(const std::string& scene_path, const std::string& profile, const PluginRegistry& registry,
+                  int width, int height, unsigned threads, bool allow_missing_images);
+
+RunReport make_run_report(const RunSetup& setup, const JobSystem& jobs);
+ReportFrame to_report_frame(const FrameRecord& record);
+
+// The resolved (exposed, tonemapped, sRGB) frame as an RGB8 PNG (atomic).
+void write_frame_png(const std::string& path, const FrameBuffers& buffers);
+// Linear radiance (half) + distance Z (float) EXR (atomic).
+void write_frame_exr(const std::string& path, const FrameBuffers& buffers);
+
+int render_command(const std::vector<std::string>& args, const PluginRegistry& registry);
+int bench_command(const std::vector<std::string>& args, const PluginRegistry& registry);
+
+}  // namespace cr

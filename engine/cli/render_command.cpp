@@ -1,0 +1,70 @@
+// `cpurender render`: renders frames of a scene and writes images and reports.
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <sstream>
+
+#include "engine/cli/arg_parser.h"
+#include "engine/cli/cli_common.h"
+#include "engine/cli/paths.h"
+#include "engine/output/chrome_trace.h"
+#include "engine/output/timing_report.h"
+#include "engine/render/renderer.h"
+
+namespace cr {
+
+int render_command(const std::vector<std::string>& args, const PluginRegistry& registry) {
+  ArgParser p("render", "cpurender render [SCENE] [options]",
+              "Renders frames of a scene (a scene .json or a bare .gltf/.glb; default: the generated\n"
+              "default scene) and writes frame_NNNN.png / .exr, report.json and trace.json.");
+  add_scene_options(p);
+  p.option("out", "DIR", "output directory", "out")
+      .option("format", "LIST", "comma-separated frame formats: png, exr, none", "png")
+      .option("first-frame", "N", "first frame index of the camera path", "0")
+      .flag("no-trace", "do not write the Chrome trace (trace.json)")
+      .flag("quiet", "no progress output");
+  if (!p.parse(args, 0, 1)) return 0;
+
+  RunSetup setup = load_run_setup(p, registry);
+  const std::string out = p.get("out");
+  bool png = false, exr = false;
+  {
+    std::stringstream ss(p.get("format"));
+    for (std::string f; std::getline(ss, f, ',');) {
+      if (f == "png") png = true;
+      else if (f == "exr") exr = true;
+      else if (f != "none") throw UsageError("render: unknown --format '" + f + "' (png, exr, none)");
+    }
+  }
+  const int first = p.get_int("first-frame", 0, 1 << 20);
+  const bool quiet = p.has("quiet");
+  std::filesystem::create_directories(out);
+
+  JobSystem jobs(setup.threads);
+  Renderer renderer(*setup.scene, setup.description, setup.profile, registry.create_all(), jobs);
+  RunReport report = make_run_report(setup, jobs);
+
+  for (int f = first; f < first + setup.frames; ++f) {
+    const FrameRecord& rec = renderer.render_frame(f);
+    report.frames.push_back(to_report_frame(rec));
+    char name[64];
+    std::snprintf(name, sizeof name, "/frame_%04d", f);
+    if (png) write_frame_png(out + name + ".png", renderer.buffers());
+    if (exr) write_frame_exr(out + name + ".exr", renderer.buffers());
+    if (!quiet && setup.frames > 1)
+      std::fprintf(stderr, "\rframe %d/%d  %.2f ms", f - first + 1, setup.frames, rec.frame_ms);
+  }
+  if (!quiet && setup.frames > 1) std::fprintf(stderr, "\n");
+
+  write_report_json(out + "/report.json", report);
+  if (!p.has("no-trace")) write_chrome_trace(out + "/trace.json", report);
+  if (!quiet) {
+    std::cout << format_summary(report);
+    std::cout << "wrote " << out << "/" << (png ? "frame_*.png " : "") << (exr ? "frame_*.exr " : "")
+              << "report.json" << (p.has("no-trace") ? "" : " trace.json") << "\n";
+  }
+  return 0;
+}
+
+}  // namespace cr

@@ -1,0 +1,73 @@
+#pragma once
+// Run reports: per-frame pass and job timings, summarised into percentiles
+// and budget counts, as JSON (for tools) and as a terminal table (for people).
+// These are plain structs so this layer does not depend on the renderer; the
+// renderer copies its FrameRecords into them.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace cr {
+
+struct ReportPass {
+  std::string name;
+  double begin_us = 0.0;  // job-system clock
+  double end_us = 0.0;
+  double ms() const { return (end_us - begin_us) * 1e-3; }
+};
+
+struct ReportJob {
+  std::string name;
+  uint32_t worker = 0;  // 0 = main thread
+  double begin_us = 0.0;
+  double end_us = 0.0;
+};
+
+struct ReportFrame {
+  int frame = 0;
+  double begin_us = 0.0;               // job-system clock at frame start
+  double frame_ms = 0.0;               // wall time of the frame
+  std::vector<ReportPass> passes;      // executed passes
+  std::vector<std::string> culled;     // passes the frame graph removed
+  std::vector<ReportJob> jobs;
+  nlohmann::json plugins = nlohmann::json::object();  // plugin entries by plugin name
+};
+
+struct BuildInfo {
+  std::string compiler;    // e.g. compiler_description()
+  std::string build_type;  // e.g. "Release"
+  std::string flags;       // compile flags, as the caller knows them
+};
+
+struct RunReport {
+  std::string scene;
+  std::string profile;
+  int width = 0;
+  int height = 0;
+  unsigned threads = 1;
+  double frame_budget_ms = 0.0;  // <= 0: no budget
+  std::vector<ReportFrame> frames;
+  BuildInfo build;
+  nlohmann::json extra = nlohmann::json::object();
+};
+
+// The compiler that built this library, e.g. "GCC 12.2.0".
+std::string compiler_description();
+
+// The full report: run parameters, per-frame pass times and job statistics
+// (count, summed job time, per-worker busy time as the union of that
+// worker's job intervals, so nested jobs are not counted twice), and a
+// summary with nearest-rank percentiles (see percentile.h) of frame and pass
+// times and the number of frames over budget (frame_ms > budget).
+nlohmann::json report_to_json(const RunReport& report);
+
+// report_to_json, pretty-printed, written atomically. Throws cr::Error.
+void write_report_json(const std::string& path, const RunReport& report);
+
+// A short table for the terminal: frame-time percentiles, budget overruns,
+// and each pass's median / p95 / max sorted by median cost.
+std::string format_summary(const RunReport& report);
+
+}  // namespace cr

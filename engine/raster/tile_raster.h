@@ -1,0 +1,41 @@
+#pragma once
+// Rasterisation of one screen tile: every triangle binned to the tile, in
+// submission order, into a tile-local buffer that is copied out at the end
+// (one job per tile, so every output pixel has exactly one writer).
+//
+// Per triangle the tile part of its bounding box is walked in 8x8 blocks.
+// Each block classifies the three edges in int64 at its corners: an edge that
+// excludes the block rejects it, an edge that includes it is dropped, and only
+// crossing edges are evaluated per pixel, in int32 with SSE2, 8 pixels a row.
+// Depth is float reversed-Z with an early GREATER test; alpha-mask coverage
+// is asked only for samples that pass it. Everything a pixel sees is a pure
+// function of the pixel and the triangle, so results do not depend on the
+// tile size or on which thread runs the tile.
+#include <cstdint>
+#include <span>
+
+#include "engine/raster/raster_types.h"
+#include "engine/raster/tile_binner.h"
+
+namespace cr {
+
+enum class TileMode : uint8_t {
+  Visibility,  // depth + triangle id, written
+  Depth,       // depth only, written
+  Blended,     // depth tested (not written), fragments delivered to a callback
+};
+
+struct TileTarget {
+  TileMode mode = TileMode::Visibility;
+  int stride = 0;                        // image row length in pixels
+  float* depth = nullptr;                // image depth, written (Visibility, Depth)
+  uint32_t* ids = nullptr;               // image triangle ids, written (Visibility)
+  const float* opaque_depth = nullptr;   // image depth tested against (Blended)
+  const CoverageFn* coverage = nullptr;  // for alpha-mask triangles (Visibility, Depth)
+  const FragmentFn* fragment = nullptr;  // Blended
+};
+
+void raster_tile(int tile, const TileGrid& grid, std::span<const GeometryChunk> chunks, const TileTarget& target,
+                 TileStats& stats);
+
+}  // namespace cr

@@ -1,0 +1,100 @@
+#pragma once
+// The tiled visibility-buffer rasterizer.
+//
+// Pipeline per render call, each stage a parallel_for on the job system:
+//   "vertex"  positions -> clip space (float model_to_clip per draw)
+//   "setup"   cull, clip (near, guard band), snap, edge functions; chunks of
+//             kSetupChunk input triangles, each chunk with its own output
+//   "bin"     per chunk, per-tile triangle lists (submission order kept)
+//   "raster"  one job per tile: all its triangles in submission order
+// The output is bit-identical for any thread count and any tile size.
+//
+// Triangle ids: every original triangle that survives culling gets an id,
+// shared by all pieces the clipper cuts from it; the visibility buffer, the
+// callbacks and the queries use it. Ids stay valid until the next render call
+// of the same kind (visibility, blended, depth each keep their own geometry).
+//
+// One instance per view: calls on one instance must not overlap; render the
+// shadow map with its own instance if it runs concurrently with the view.
+// The object keeps its buffers between frames, so steady-state frames do not
+// allocate.
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "engine/core/job_system.h"
+#include "engine/raster/barycentrics.h"
+#include "engine/raster/raster_types.h"
+#include "engine/raster/tile_binner.h"
+#include "engine/raster/tile_raster.h"
+#include "engine/raster/triangle_interp.h"
+
+namespace cr {
+
+// Per pixel: nearest opaque or alpha-masked surface. Row-major, y down.
+struct VisibilityBuffer {
+  int width = 0;
+  int height = 0;
+  std::vector<float> depth;        // reversed-Z NDC depth; 0 = nothing drawn
+  std::vector<uint32_t> triangle;  // triangle id; kNoTriangle = nothing drawn
+
+  size_t index(int x, int y) const { return size_t(y) * width + x; }
+};
+
+class TiledRasterizer {
+ public:
+  // Input triangles per setup chunk (a power of two; part of the id encoding).
+  static constexpr uint32_t kSetupChunk = 1024;
+
+  // Opaque and alpha-mask draws into the visibility buffer (cleared first).
+  // Back faces of single-sided draws are culled. `coverage` is required when
+  // a draw has alpha_mask; it may be called concurrently for different pixels.
+  const RasterStats& render_visibility(JobSystem& jobs, int width, int height, int tile_size,
+                                       std::span<const RasterDraw> draws, const CoverageFn& coverage = {});
+  const VisibilityBuffer& visibility() const { return visibility_; }
+
+  // Blended draws, given back to front (see blend_order.h), tested against the
+  // visibility depth of the last render_visibility (not written). `fragment`
+  // is called for each sample that passes, per pixel in primitive order;
+  // concurrently for different tiles, so it must only touch pixel (x, y).
+  // alpha_mask is ignored here: blending uses the alpha itself.
+  const RasterStats& render_blended(JobSystem& jobs, std::span<const RasterDraw> back_to_front,
+                                    const FragmentFn& fragment);
+
+  // Depth only into `depth` (resized to size * size, row-major, 0 = empty),
+  // for shadow maps with an orthographic matrix (clip z in [0, 1], 1 nearest).
+  // Nothing is culled: terrain and other open meshes have no back faces to
+  // cast from, and the shadow lookup's normal-offset and slope biases handle
+  // the acne that rendering front faces invites.
+  const RasterStats& render_depth(JobSystem& jobs, int size, int tile_size, std::span<const RasterDraw> draws,
+                                  std::vector<float>& depth, const CoverageFn& coverage = {});
+
+  // Perspective-correct barycentrics of the original triangle at screen
+  // position (px, py) (pixel centre = x + 0.5), with d/dx and d/dy per pixel.
+  Barycentrics barycentrics(uint32_t triangle_id, float px, float py) const;
+  TriangleRef ref(uint32_t triangle_id) const;
+
+ private:
+  struct Geometry {
+    std::vector<ProjectedVertex> vertices;
+    std::vector<size_t> vertex_begin;    // per draw, + total
+    std::vector<size_t> triangle_begin;  // per draw, + total
+    std::vector<GeometryChunk> chunks;   // grows only; the first chunk_count are live
+    size_t chunk_count = 0;
+    RasterStats stats;
+  };
+  enum GeometrySet : uint32_t { kOpaque = 0, kBlended = 1, kDepth = 2, kSetCount = 3 };
+
+  void build(JobSystem& jobs, GeometrySet set, std::span<const RasterDraw> draws, const TileGrid& grid,
+             CullMode cull);
+  void raster(JobSystem& jobs, GeometrySet set, const TileGrid& grid, const TileTarget& target);
+  const TriangleInterp& interp(uint32_t triangle_id) const;
+
+  Geometry geometry_[kSetCount];
+  TileGrid visibility_grid_;
+  VisibilityBuffer visibility_;
+};
+
+}  // namespace cr

@@ -1,0 +1,278 @@
+#include "engine/render/renderer.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "engine/core/error.h"
+#include "engine/raster/blend_order.h"
+#include "engine/raster/tiled_rasterizer.h"
+#include "engine/render/frame_view.h"
+#include "engine/shading/material_eval.h"
+#include "engine/shading/sh_lighting.h"
+#include "engine/shading/shade_surface.h"
+#include "engine/shading/surface.h"
+#include "engine/shading/tonemap.h"
+
+namespace cr {
+
+namespace {
+
+const Material& material_of(const Scene& scene, const Primitive& prim) {
+  static const Material kDefault;  // glTF default material: white, metallic 1, roughness 1
+  return prim.material >= 0 ? scene.materials[prim.material] : kDefault;
+}
+
+// Camera-relative model -> clip, composed in double so a large camera offset
+// does not cost float precision (the float matrix only holds small numbers).
+glm::mat4 model_to_clip(const glm::mat4& view_proj, const glm::dvec3& origin, const glm::mat4& world) {
+  glm::dmat4 w(world);
+  w[3] -= glm::dvec4(origin, 0.0);
+  return glm::mat4(glm::dmat4(view_proj) * w);
+}
+
+// Conservative test of a world AABB against the camera frustum (infinite far).
+bool aabb_in_view(const Camera& cam, const glm::vec3& lo, const glm::vec3& hi) {
+  const glm::vec3 c = 0.5f * (lo + hi) - glm::vec3(cam.position);
+  const glm::vec3 e = 0.5f * (hi - lo);
+  const float ty = std::tan(0.5f * cam.vfov_rad), tx = ty * cam.aspect;
+  // Inward plane normals of the four side planes and the near plane.
+  const glm::vec3 normals[5] = {
+      glm::normalize(cam.forward * tx + cam.right), glm::normalize(cam.forward * tx - cam.right),
+      glm::normalize(cam.forward * ty + cam.up), glm::normalize(cam.forward * ty - cam.up), cam.forward};
+  for (int i = 0; i < 5; ++i) {
+    const glm::vec3& n = normals[i];
+    const float r = e.x * std::abs(n.x) + e.y * std::abs(n.y) + e.z * std::abs(n.z);
+    const float d = glm::dot(n, c) + r - (i == 4 ? cam.znear : 0.0f);
+    if (d < 0.0f) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+struct Renderer::Geometry {
+  TiledRasterizer view;    // the camera's visibility buffer
+  TiledRasterizer shadow;  // the sun's depth map
+  std::vector<RasterDraw> opaque, blended, casters;
+  RasterStats stats;
+  uint64_t pixels_shaded = 0;
+};
+
+Renderer::Renderer(const Scene& scene, const SceneDescription& description, const Profile& profile,
+                   std::vector<std::unique_ptr<Plugin>> plugins, JobSystem& jobs)
+    : scene_(scene), description_(description), profile_(profile), jobs_(jobs),
+      geometry_(std::make_unique<Geometry>()) {
+  for (auto& p : plugins)
+    if (p->configure(scene, description, profile)) plugins_.push_back(std::move(p));
+  std::stable_sort(plugins_.begin(), plugins_.end(),
+                   [](const auto& a, const auto& b) { return a->composite_order() < b->composite_order(); });
+  buffers_.resize(profile.width, profile.height);
+}
+
+Renderer::~Renderer() = default;
+
+FrameView Renderer::frame_view(int frame) const {
+  return make_frame_view(scene_, description_, frame, profile_.width, profile_.height);
+}
+
+Plugin* Renderer::plugin(const std::string& name) const {
+  for (const auto& p : plugins_)
+    if (p->name() == name) return p.get();
+  return nullptr;
+}
+
+const FrameRecord& Renderer::render_frame(int frame) {
+  if (frame <= last_frame_) throw Error("renderer: frames must be rendered in increasing order");
+  FrameView view = frame_view(frame);
+  if (frame != last_frame_ + 1) {  // skipped frames: temporal history is not valid
+    view.history_valid = false;
+    view.prev_camera = view.camera;
+  }
+  last_frame_ = frame;
+
+  Geometry& geo = *geometry_;
+  const Camera& cam = view.camera;
+  FrameContext ctx{scene_, description_, profile_, jobs_, view, buffers_, light_, shadow_};
+  const int w = buffers_.width, h = buffers_.height;
+  const int tile = profile_.tile_size;
+  const bool sun_up = view.sun_direction.y > 0.0f && glm::length(view.sun_illuminance) > 0.0f;
+
+  FrameGraph graph;
+
+  graph.add_pass("light", [](FrameGraph::Builder& b) { b.write("light_environment"); }, [this, &view, sun_up] {
+    light_ = LightEnvironment{};
+    light_.sun_direction = view.sun_direction;
+    light_.sun_illuminance = sun_up ? view.sun_illuminance : glm::vec3(0.0f);
+    light_.ambient_sh = sh_constant_radiance(description_.ambient);
+  });
+
+  const bool shadows = profile_.shadow_map_size > 0 && sun_up;
+  if (shadows)
+    graph.add_pass("shadow", [](FrameGraph::Builder& b) { b.write("shadow_map"); }, [this, &geo, &view] {
+      shadow_ = fit_shadow_map(view.camera, view.sun_direction, profile_.shadow_distance, profile_.shadow_map_size,
+                               profile_.shadow_pcf_radius, scene_.bounds_min, scene_.bounds_max);
+      geo.casters.clear();
+      for (uint32_t i = 0; i < scene_.draws.size(); ++i) {
+        const Draw& d = scene_.draws[i];
+        const Material& m = material_of(scene_, scene_.primitive(d));
+        if (m.alpha_mode == AlphaMode::Blend) continue;  // translucent surfaces cast no shadow
+        geo.casters.push_back({&scene_.primitive(d), model_to_clip(shadow_.light_view_proj, shadow_.origin, d.world),
+                               true, d.mirrored, m.alpha_mode == AlphaMode::Mask, i});
+      }
+      const CoverageFn coverage = [this, &geo](uint32_t id, const Barycentrics& bary) {
+        const TriangleRef r = geo.shadow.ref(id);
+        const Draw& d = scene_.draws[r.draw_index];
+        const Primitive& prim = scene_.primitive(d);
+        const Material& m = material_of(scene_, prim);
+        return material_alpha(scene_, m, interpolate_surface(prim, d, r.triangle_index, bary, r.front_facing)) >=
+               m.alpha_cutoff;
+      };
+      geo.shadow.render_depth(jobs_, shadow_.size, profile_.tile_size, geo.casters, shadow_.depth, coverage);
+    });
+  else
+    shadow_ = ShadowMap{};
+
+  // Draws outside the view frustum cost nothing past this test.
+  geo.opaque.clear();
+  geo.blended.clear();
+  std::vector<glm::dvec3> blend_centres;
+  const glm::mat4 view_proj = cam.view_proj();
+  for (uint32_t i = 0; i < scene_.draws.size(); ++i) {
+    const Draw& d = scene_.draws[i];
+    if (!aabb_in_view(cam, d.world_bounds_min, d.world_bounds_max)) continue;
+    const Material& m = material_of(scene_, scene_.primitive(d));
+    RasterDraw rd{&scene_.primitive(d), model_to_clip(view_proj, cam.position, d.world), m.double_sided,
+                  d.mirrored, m.alpha_mode == AlphaMode::Mask, i};
+    if (m.alpha_mode != AlphaMode::Blend) {
+      geo.opaque.push_back(rd);
+      continue;
+    }
+    geo.blended.push_back(rd);
+    blend_centres.push_back(0.5 * (glm::dvec3(d.world_bounds_min) + glm::dvec3(d.world_bounds_max)));
+  }
+  if (!geo.blended.empty()) {
+    std::vector<RasterDraw> sorted;
+    for (uint32_t i : back_to_front_order(blend_centres, cam.position, cam.forward)) sorted.push_back(geo.blended[i]);
+    geo.blended.swap(sorted);
+  }
+
+  graph.add_pass("geometry", [](FrameGraph::Builder& b) { b.write("visibility").write("depth"); },
+                 [this, &geo, w, h, tile] {
+    const CoverageFn coverage = [this, &geo](uint32_t id, const Barycentrics& bary) {
+      const TriangleRef r = geo.view.ref(id);
+      const Draw& d = scene_.draws[r.draw_index];
+      const Primitive& prim = scene_.primitive(d);
+      const Material& m = material_of(scene_, prim);
+      return material_alpha(scene_, m, interpolate_surface(prim, d, r.triangle_index, bary, r.front_facing)) >=
+             m.alpha_cutoff;
+    };
+    geo.stats = geo.view.render_visibility(jobs_, w, h, tile, geo.opaque, coverage);
+  });
+
+  // Plugins declare their passes after the engine's inputs exist, so their
+  // reads of "shadow_map", "depth" and "light_environment" resolve to them.
+  for (auto& p : plugins_) p->add_passes(graph, ctx);
+
+  const ShadingInputs shading{&scene_, &light_, &shadow_, cam.position};
+  auto shade_fragment = [this, &geo, &shading, &cam](uint32_t id, const Barycentrics& bary, glm::vec3* dist) {
+    const TriangleRef r = geo.view.ref(id);
+    const Draw& d = scene_.draws[r.draw_index];
+    const Primitive& prim = scene_.primitive(d);
+    const SurfaceSample s = interpolate_surface(prim, d, r.triangle_index, bary, r.front_facing);
+    if (dist) dist->x = float(glm::length(glm::dvec3(s.position) - cam.position));
+    return shade_surface(shading, material_of(scene_, prim), s);
+  };
+
+  graph.add_pass("shade", [](FrameGraph::Builder& b) {
+    b.read("visibility").read("shadow_map").read("light_environment").write("hdr_color");
+  }, [this, &geo, &shade_fragment, w, h] {
+    const std::vector<float>& depth = geo.view.visibility().depth;
+    const std::vector<uint32_t>& ids = geo.view.visibility().triangle;
+    // Without a sky plugin the background is the ambient radiance: a flat sky.
+    const glm::vec3 background = description_.ambient;
+    std::vector<uint64_t> shaded_rows(size_t(h), 0);
+    jobs_.parallel_for("shade", size_t(h), 4, [&](size_t y0, size_t y1) {
+      for (size_t y = y0; y < y1; ++y) {
+        uint64_t n = 0;
+        for (int x = 0; x < w; ++x) {
+          const size_t i = y * size_t(w) + size_t(x);
+          buffers_.depth[i] = depth[i];
+          if (ids[i] == kNoTriangle) {
+            buffers_.color[i] = background;
+            buffers_.distance[i] = std::numeric_limits<float>::infinity();
+            continue;
+          }
+          glm::vec3 dist(0.0f);
+          const Barycentrics bary = geo.view.barycentrics(ids[i], float(x) + 0.5f, float(y) + 0.5f);
+          buffers_.color[i] = glm::vec3(shade_fragment(ids[i], bary, &dist));
+          buffers_.distance[i] = dist.x;
+          ++n;
+        }
+        shaded_rows[y] = n;
+      }
+    });
+    uint64_t total = 0;
+    for (uint64_t n : shaded_rows) total += n;  // fixed-order reduction
+    geo.pixels_shaded = total;
+  });
+
+  if (!geo.blended.empty())
+    graph.add_pass("transparent", [](FrameGraph::Builder& b) { b.read("hdr_color").write("hdr_color"); },
+                 [this, &geo, &shade_fragment, w] {
+    geo.view.render_blended(jobs_, geo.blended, [&](int x, int y, uint32_t id, const Barycentrics& bary) {
+      const glm::vec4 c = shade_fragment(id, bary, nullptr);
+      glm::vec3& dst = buffers_.color[size_t(y) * size_t(w) + size_t(x)];
+      dst = dst * (1.0f - c.a) + glm::vec3(c) * c.a;
+    });
+  });
+
+  std::vector<Plugin*> compositors;
+  std::vector<std::string> composite_reads = {"hdr_color"};
+  for (auto& p : plugins_)
+    if (p->has_composite()) {
+      compositors.push_back(p.get());
+      for (const std::string& r : p->composite_reads()) composite_reads.push_back(r);
+    }
+  if (!compositors.empty())
+    graph.add_pass("composite", [&](FrameGraph::Builder& b) {
+      for (const std::string& r : composite_reads) b.read(r);
+      b.write("hdr_color");
+    }, [this, &ctx, &compositors, w, h, tile] {
+      const int tx = (w + tile - 1) / tile, ty = (h + tile - 1) / tile;
+      jobs_.parallel_for("composite", size_t(tx) * ty, 1, [&](size_t b, size_t e) {
+        for (size_t t = b; t < e; ++t) {
+          const int x0 = int(t % tx) * tile, y0 = int(t / tx) * tile;
+          for (Plugin* p : compositors) p->composite(ctx, x0, y0, std::min(w, x0 + tile), std::min(h, y0 + tile));
+        }
+      });
+    });
+
+  graph.add_pass("resolve", [](FrameGraph::Builder& b) { b.read("hdr_color").write("frame"); }, [this, w, h] {
+    const float ev100 = description_.exposure_ev100;
+    jobs_.parallel_for("resolve", size_t(h), 16, [&](size_t y0, size_t y1) {
+      resolve_to_srgb8(&buffers_.color[y0 * size_t(w)], (y1 - y0) * size_t(w), ev100,
+                       &buffers_.display[y0 * size_t(w) * 3]);
+    });
+  });
+  graph.mark_output("frame");
+
+  graph.compile();
+  jobs_.take_records();
+  record_ = FrameRecord{};
+  record_.frame = frame;
+  record_.begin_us = jobs_.now_us();
+  graph.execute(jobs_);
+  record_.frame_ms = (jobs_.now_us() - record_.begin_us) * 1e-3;
+  record_.passes = graph.timings();
+  record_.culled = graph.culled_pass_names();
+  record_.jobs = jobs_.take_records();
+  const RasterStats& st = geo.stats;
+  record_.raster = {{"triangles_in", st.triangles_in},       {"triangles_culled", st.triangles_culled},
+                    {"triangles_clipped", st.triangles_clipped}, {"triangles_visible", st.triangles_visible},
+                    {"tile_triangle_pairs", st.tile_triangle_pairs}, {"pixels_covered", st.pixels_covered},
+                    {"pixels_shaded", geo.pixels_shaded},    {"draws_in_view", geo.opaque.size() + geo.blended.size()}};
+  for (auto& p : plugins_) p->report_frame(record_.plugins[p->name()]);
+  return record_;
+}
+
+}  // namespace cr

@@ -1,0 +1,227 @@
+#include "engine/scene/gltf_materials.h"
+
+#include <cmath>
+#include <map>
+#include <set>
+
+#include "engine/scene/image_mips.h"
+
+namespace cr {
+
+namespace {
+
+Wrap convert_wrap(const GltfContext& ctx, int mode, const std::string& what) {
+  switch (mode) {
+    case TINYGLTF_TEXTURE_WRAP_REPEAT: return Wrap::Repeat;
+    case TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE: return Wrap::ClampToEdge;
+    case TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT: return Wrap::MirroredRepeat;
+    default: ctx.fail(what + " has invalid value " + std::to_string(mode));
+  }
+}
+
+Sampler convert_sampler(const GltfContext& ctx, const tinygltf::Sampler& s, size_t index) {
+  std::string label = gltf_label("sampler", index, s.name);
+  Sampler out;
+  out.wrap_s = convert_wrap(ctx, s.wrapS, label + " wrapS");
+  out.wrap_t = convert_wrap(ctx, s.wrapT, label + " wrapT");
+  switch (s.magFilter) {
+    case -1:  // undefined: the renderer's choice
+    case TINYGLTF_TEXTURE_FILTER_LINEAR: out.mag = Filter::Linear; break;
+    case TINYGLTF_TEXTURE_FILTER_NEAREST: out.mag = Filter::Nearest; break;
+    default: ctx.fail(label + " magFilter has invalid value " + std::to_string(s.magFilter));
+  }
+  switch (s.minFilter) {
+    case -1:  // undefined: trilinear, the best quality on offer
+    case TINYGLTF_TEXTURE_FILTER_LINEAR_MIPMAP_LINEAR: out.min = Filter::Linear; out.mip = Filter::Linear; break;
+    case TINYGLTF_TEXTURE_FILTER_NEAREST: out.min = Filter::Nearest; out.mip.reset(); break;
+    case TINYGLTF_TEXTURE_FILTER_LINEAR: out.min = Filter::Linear; out.mip.reset(); break;
+    case TINYGLTF_TEXTURE_FILTER_NEAREST_MIPMAP_NEAREST: out.min = Filter::Nearest; out.mip = Filter::Nearest; break;
+    case TINYGLTF_TEXTURE_FILTER_LINEAR_MIPMAP_NEAREST: out.min = Filter::Linear; out.mip = Filter::Nearest; break;
+    case TINYGLTF_TEXTURE_FILTER_NEAREST_MIPMAP_LINEAR: out.min = Filter::Nearest; out.mip = Filter::Linear; break;
+    default: ctx.fail(label + " minFilter has invalid value " + std::to_string(s.minFilter));
+  }
+  return out;
+}
+
+bool is_data_uri(const std::string& uri) { return uri.rfind("data:", 0) == 0; }
+
+// Resolves material texture references to scene images, creating each
+// (glTF image, colour space) pair once, and collects unusable images.
+class TextureResolver {
+ public:
+  TextureResolver(const GltfContext& ctx, const ImageDecodeLog& log) : ctx_(ctx), log_(log) {}
+
+  TextureRef resolve(int texture, int texcoord, float scale, bool srgb, const std::string& what) {
+    TextureRef ref;
+    ref.scale = scale;
+    if (texture == -1) return ref;
+    const tinygltf::Model& m = ctx_.model;
+    if (texture < 0 || static_cast<size_t>(texture) >= m.textures.size()) {
+      ctx_.fail(what + ": texture index " + std::to_string(texture) + " out of range (" +
+                std::to_string(m.textures.size()) + " textures)");
+    }
+    if (texcoord < 0) ctx_.fail(what + ": texCoord " + std::to_string(texcoord) + " is negative");
+    if (texcoord != 0) {
+      ctx_.warn(what + " uses TEXCOORD_" + std::to_string(texcoord) +
+                "; only TEXCOORD_0 is loaded, so TEXCOORD_0 is used instead");
+    }
+    const tinygltf::Texture& t = m.textures[texture];
+    std::string tlabel = what + ": " + gltf_label("texture", texture, t.name);
+    if (t.source < 0 || static_cast<size_t>(t.source) >= m.images.size()) {
+      ctx_.fail(tlabel + " has image source " + std::to_string(t.source) + " out of range (" +
+                std::to_string(m.images.size()) + " images); images supplied by extensions are not supported");
+    }
+    if (t.sampler < -1 || (t.sampler >= 0 && static_cast<size_t>(t.sampler) >= m.samplers.size())) {
+      ctx_.fail(tlabel + " has sampler " + std::to_string(t.sampler) + " out of range (" +
+                std::to_string(m.samplers.size()) + " samplers)");
+    }
+    const tinygltf::Image& img = m.images[t.source];
+    std::string ilabel = gltf_label("image", t.source, img.name) + (img.uri.empty() || is_data_uri(img.uri) ? "" : " '" + img.uri + "'");
+    auto failed = log_.failures.find(t.source);
+    if (failed != log_.failures.end()) {
+      undecodable_.insert(ilabel + ": " + failed->second);
+      return ref;
+    }
+    if (img.image.empty()) {
+      if (!img.uri.empty() && !is_data_uri(img.uri)) {
+        missing_.insert(img.uri);
+      } else {
+        undecodable_.insert(ilabel + ": no image data");
+      }
+      return ref;
+    }
+    auto key = std::make_pair(t.source, srgb);
+    auto it = scene_image_.find(key);
+    if (it == scene_image_.end()) {
+      it = scene_image_.emplace(key, static_cast<int>(sources_.size())).first;
+      sources_.push_back(key);
+    }
+    ref.image = it->second;
+    ref.sampler = t.sampler;
+    return ref;
+  }
+
+  const std::set<std::string>& missing() const { return missing_; }
+  const std::set<std::string>& undecodable() const { return undecodable_; }
+  const std::vector<std::pair<int, bool>>& sources() const { return sources_; }
+
+ private:
+  const GltfContext& ctx_;
+  const ImageDecodeLog& log_;
+  std::map<std::pair<int, bool>, int> scene_image_;
+  std::vector<std::pair<int, bool>> sources_;  // scene image -> (glTF image, sRGB)
+  std::set<std::string> missing_;
+  std::set<std::string> undecodable_;
+};
+
+float factor(const GltfContext& ctx, double v, double lo, double hi, const std::string& what) {
+  if (!std::isfinite(v) || v < lo || v > hi) {
+    ctx.fail(what + " is " + std::to_string(v) + "; must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+  }
+  return static_cast<float>(v);
+}
+
+Material convert_material(const GltfContext& ctx, TextureResolver& textures, const tinygltf::Material& src,
+                          size_t index) {
+  std::string label = gltf_label("material", index, src.name);
+  const tinygltf::PbrMetallicRoughness& pbr = src.pbrMetallicRoughness;
+  Material m;
+  m.name = src.name;
+  if (pbr.baseColorFactor.size() != 4) ctx.fail(label + " baseColorFactor must have 4 components");
+  for (int c = 0; c < 4; ++c) {
+    m.base_color_factor[c] = factor(ctx, pbr.baseColorFactor[c], 0.0, 1.0, label + " baseColorFactor");
+  }
+  m.metallic_factor = factor(ctx, pbr.metallicFactor, 0.0, 1.0, label + " metallicFactor");
+  m.roughness_factor = factor(ctx, pbr.roughnessFactor, 0.0, 1.0, label + " roughnessFactor");
+  if (src.emissiveFactor.size() != 3) ctx.fail(label + " emissiveFactor must have 3 components");
+  for (int c = 0; c < 3; ++c) {
+    m.emissive_factor[c] = factor(ctx, src.emissiveFactor[c], 0.0, 1.0, label + " emissiveFactor");
+  }
+  m.base_color = textures.resolve(pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord, 1.0f, true,
+                                  label + " baseColorTexture");
+  m.metallic_roughness = textures.resolve(pbr.metallicRoughnessTexture.index, pbr.metallicRoughnessTexture.texCoord,
+                                          1.0f, false, label + " metallicRoughnessTexture");
+  float normal_scale = factor(ctx, src.normalTexture.scale, -1e6, 1e6, label + " normalTexture.scale");
+  m.normal = textures.resolve(src.normalTexture.index, src.normalTexture.texCoord, normal_scale, false,
+                              label + " normalTexture");
+  float strength = factor(ctx, src.occlusionTexture.strength, 0.0, 1.0, label + " occlusionTexture.strength");
+  m.occlusion = textures.resolve(src.occlusionTexture.index, src.occlusionTexture.texCoord, strength, false,
+                                 label + " occlusionTexture");
+  m.emissive = textures.resolve(src.emissiveTexture.index, src.emissiveTexture.texCoord, 1.0f, true,
+                                label + " emissiveTexture");
+  if (src.alphaMode == "OPAQUE") {
+    m.alpha_mode = AlphaMode::Opaque;
+  } else if (src.alphaMode == "MASK") {
+    m.alpha_mode = AlphaMode::Mask;
+  } else if (src.alphaMode == "BLEND") {
+    m.alpha_mode = AlphaMode::Blend;
+  } else {
+    ctx.fail(label + " alphaMode \"" + src.alphaMode + "\" is not OPAQUE, MASK or BLEND");
+  }
+  m.alpha_cutoff = factor(ctx, src.alphaCutoff, 0.0, 1e6, label + " alphaCutoff");
+  m.double_sided = src.doubleSided;
+  return m;
+}
+
+std::string join(const std::set<std::string>& items, const std::string& sep) {
+  std::string out;
+  for (const std::string& s : items) out += (out.empty() ? "" : sep) + s;
+  return out;
+}
+
+}  // namespace
+
+GltfMaterials load_materials(const GltfContext& ctx, const ImageDecodeLog& decode_log,
+                             const GltfLoadOptions& options) {
+  const tinygltf::Model& m = ctx.model;
+  GltfMaterials out;
+  for (size_t i = 0; i < m.samplers.size(); ++i) out.samplers.push_back(convert_sampler(ctx, m.samplers[i], i));
+
+  for (size_t i = 0; i < m.textures.size(); ++i) {
+    const tinygltf::Texture& t = m.textures[i];
+    std::string label = gltf_label("texture", i, t.name);
+    if (t.source < -1 || (t.source >= 0 && static_cast<size_t>(t.source) >= m.images.size())) {
+      ctx.fail(label + " source " + std::to_string(t.source) + " out of range (" + std::to_string(m.images.size()) + " images)");
+    }
+    if (t.sampler < -1 || (t.sampler >= 0 && static_cast<size_t>(t.sampler) >= m.samplers.size())) {
+      ctx.fail(label + " sampler " + std::to_string(t.sampler) + " out of range (" + std::to_string(m.samplers.size()) + " samplers)");
+    }
+  }
+
+  TextureResolver textures(ctx, decode_log);
+  for (size_t i = 0; i < m.materials.size(); ++i) {
+    out.materials.push_back(convert_material(ctx, textures, m.materials[i], i));
+  }
+  if (!textures.undecodable().empty()) {
+    ctx.fail("cannot decode " + std::to_string(textures.undecodable().size()) + " image(s): " +
+             join(textures.undecodable(), "; "));
+  }
+  if (!textures.missing().empty()) {
+    std::string list = join(textures.missing(), ", ");
+    if (!options.allow_missing_images) {
+      ctx.fail(std::to_string(textures.missing().size()) + " image file(s) missing: " + list +
+               " (load with allow_missing_images to render with the material factors instead)");
+    }
+    ctx.warn(std::to_string(textures.missing().size()) + " image file(s) missing, textures using them are dropped "
+             "and their materials use their factors: " + list);
+  }
+
+  for (const auto& [source, srgb] : textures.sources()) {
+    const tinygltf::Image& img = m.images[source];
+    Image image;
+    image.name = !img.name.empty() ? img.name : (is_data_uri(img.uri) ? "image " + std::to_string(source) : img.uri);
+    image.srgb = srgb;
+    MipLevel base;
+    std::string error;
+    if (!decode_gltf_image(img, source, base, error)) {
+      ctx.fail(gltf_label("image", source, img.name) +
+               (img.uri.empty() || is_data_uri(img.uri) ? "" : " '" + img.uri + "'") + ": " + error);
+    }
+    image.mips.push_back(std::move(base));
+    generate_mips(image);
+    out.images.push_back(std::move(image));
+  }
+  return out;
+}
+
+}  // namespace cr

@@ -1,0 +1,226 @@
+#include "engine/scene/gltf_schema.h"
+
+#include <cmath>
+#include <map>
+#include <vector>
+
+#include "engine/core/error.h"
+
+namespace cr {
+
+namespace {
+
+enum class Kind { Uint, Number, Bool, String, Object, ArrayOfUint, ArrayOfNumber, ArrayOfString, ArrayOfObject, MapOfUint };
+
+// One property: its name, JSON kind, and for objects the schema of the value.
+struct Property {
+  const char* name;
+  Kind kind;
+  const char* schema = nullptr;
+  bool required = false;
+};
+
+// The core glTF 2.0 schema, reduced to what decides how a file is read.
+const std::map<std::string, std::vector<Property>>& schemas() {
+  static const std::map<std::string, std::vector<Property>> s = {
+      {"glTF",
+       {{"asset", Kind::Object, "asset", true}, {"scene", Kind::Uint}, {"scenes", Kind::ArrayOfObject, "scene"},
+        {"nodes", Kind::ArrayOfObject, "node"}, {"meshes", Kind::ArrayOfObject, "mesh"},
+        {"accessors", Kind::ArrayOfObject, "accessor"}, {"bufferViews", Kind::ArrayOfObject, "bufferView"},
+        {"buffers", Kind::ArrayOfObject, "buffer"}, {"materials", Kind::ArrayOfObject, "material"},
+        {"textures", Kind::ArrayOfObject, "texture"}, {"images", Kind::ArrayOfObject, "image"},
+        {"samplers", Kind::ArrayOfObject, "sampler"}, {"cameras", Kind::ArrayOfObject, "camera"},
+        {"skins", Kind::ArrayOfObject, "any"}, {"animations", Kind::ArrayOfObject, "any"},
+        {"extensionsUsed", Kind::ArrayOfString}, {"extensionsRequired", Kind::ArrayOfString}}},
+      {"asset", {{"version", Kind::String, nullptr, true}, {"minVersion", Kind::String}, {"generator", Kind::String}, {"copyright", Kind::String}}},
+      {"scene", {{"name", Kind::String}, {"nodes", Kind::ArrayOfUint}}},
+      {"node",
+       {{"name", Kind::String}, {"children", Kind::ArrayOfUint}, {"mesh", Kind::Uint}, {"camera", Kind::Uint},
+        {"skin", Kind::Uint}, {"matrix", Kind::ArrayOfNumber}, {"rotation", Kind::ArrayOfNumber},
+        {"scale", Kind::ArrayOfNumber}, {"translation", Kind::ArrayOfNumber}, {"weights", Kind::ArrayOfNumber}}},
+      {"mesh",
+       {{"name", Kind::String}, {"primitives", Kind::ArrayOfObject, "primitive", true}, {"weights", Kind::ArrayOfNumber}}},
+      {"primitive",
+       {{"attributes", Kind::MapOfUint, nullptr, true}, {"indices", Kind::Uint}, {"material", Kind::Uint},
+        {"mode", Kind::Uint}, {"targets", Kind::ArrayOfObject, "any"}}},
+      {"accessor",
+       {{"name", Kind::String}, {"bufferView", Kind::Uint}, {"byteOffset", Kind::Uint},
+        {"componentType", Kind::Uint, nullptr, true}, {"normalized", Kind::Bool}, {"count", Kind::Uint, nullptr, true},
+        {"type", Kind::String, nullptr, true}, {"max", Kind::ArrayOfNumber}, {"min", Kind::ArrayOfNumber},
+        {"sparse", Kind::Object, "any"}}},
+      {"bufferView",
+       {{"name", Kind::String}, {"buffer", Kind::Uint, nullptr, true}, {"byteOffset", Kind::Uint},
+        {"byteLength", Kind::Uint, nullptr, true}, {"byteStride", Kind::Uint}, {"target", Kind::Uint}}},
+      {"buffer", {{"name", Kind::String}, {"uri", Kind::String}, {"byteLength", Kind::Uint, nullptr, true}}},
+      {"material",
+       {{"name", Kind::String}, {"pbrMetallicRoughness", Kind::Object, "pbrMetallicRoughness"},
+        {"normalTexture", Kind::Object, "textureInfo"}, {"occlusionTexture", Kind::Object, "textureInfo"},
+        {"emissiveTexture", Kind::Object, "textureInfo"}, {"emissiveFactor", Kind::ArrayOfNumber},
+        {"alphaMode", Kind::String}, {"alphaCutoff", Kind::Number}, {"doubleSided", Kind::Bool}}},
+      {"pbrMetallicRoughness",
+       {{"baseColorFactor", Kind::ArrayOfNumber}, {"baseColorTexture", Kind::Object, "textureInfo"},
+        {"metallicFactor", Kind::Number}, {"roughnessFactor", Kind::Number},
+        {"metallicRoughnessTexture", Kind::Object, "textureInfo"}}},
+      {"textureInfo",
+       {{"index", Kind::Uint, nullptr, true}, {"texCoord", Kind::Uint}, {"scale", Kind::Number}, {"strength", Kind::Number}}},
+      {"texture", {{"name", Kind::String}, {"sampler", Kind::Uint}, {"source", Kind::Uint}}},
+      {"image", {{"name", Kind::String}, {"uri", Kind::String}, {"mimeType", Kind::String}, {"bufferView", Kind::Uint}}},
+      {"sampler",
+       {{"name", Kind::String}, {"magFilter", Kind::Uint}, {"minFilter", Kind::Uint}, {"wrapS", Kind::Uint}, {"wrapT", Kind::Uint}}},
+      {"camera",
+       {{"name", Kind::String}, {"type", Kind::String, nullptr, true}, {"perspective", Kind::Object, "perspective"},
+        {"orthographic", Kind::Object, "any"}}},
+      {"perspective",
+       {{"aspectRatio", Kind::Number}, {"yfov", Kind::Number, nullptr, true}, {"zfar", Kind::Number},
+        {"znear", Kind::Number, nullptr, true}}},
+      {"any", {}},
+  };
+  return s;
+}
+
+const char* kind_name(Kind k) {
+  switch (k) {
+    case Kind::Uint: return "a non-negative integer";
+    case Kind::Number: return "a number";
+    case Kind::Bool: return "a boolean";
+    case Kind::String: return "a string";
+    case Kind::Object: return "an object";
+    case Kind::ArrayOfUint: return "an array of non-negative integers";
+    case Kind::ArrayOfNumber: return "an array of numbers";
+    case Kind::ArrayOfString: return "an array of strings";
+    case Kind::ArrayOfObject: return "an array of objects";
+    case Kind::MapOfUint: return "an object of non-negative integers";
+  }
+  return "";
+}
+
+const char* element_name(Kind array_kind) {
+  switch (array_kind) {
+    case Kind::ArrayOfUint: return "a non-negative integer";
+    case Kind::ArrayOfNumber: return "a number";
+    case Kind::ArrayOfString: return "a string";
+    default: return "an object";
+  }
+}
+
+bool is_uint(const nlohmann::json& v) {
+  if (v.is_number_unsigned()) return v.get<uint64_t>() <= uint64_t(INT32_MAX);
+  if (v.is_number_integer()) return v.get<int64_t>() >= 0 && v.get<int64_t>() <= INT32_MAX;
+  return false;
+}
+
+class SchemaChecker {
+ public:
+  explicit SchemaChecker(const std::string& path) : path_(path) {}
+
+  void object(const nlohmann::json& v, const std::string& schema, const std::string& where) {
+    const std::vector<Property>& props = schemas().at(schema);
+    for (const Property& p : props) {
+      auto it = v.find(p.name);
+      std::string field = where.empty() ? p.name : where + "." + p.name;
+      if (it == v.end()) {
+        if (p.required) fail(field, "is required");
+        continue;
+      }
+      value(*it, p, field);
+    }
+    if (auto ext = v.find("extensions"); ext != v.end()) {
+      std::string field = where.empty() ? "extensions" : where + ".extensions";
+      if (!ext->is_object()) fail(field, "must be an object, found " + std::string(ext->type_name()));
+      for (auto e = ext->begin(); e != ext->end(); ++e) {
+        if (!e->is_object()) fail(field + "." + e.key(), "must be an object, found " + std::string(e->type_name()));
+      }
+    }
+  }
+
+ private:
+  [[noreturn]] void fail(const std::string& field, const std::string& what) const {
+    throw InputError(path_, "invalid glTF: '" + field + "' " + what);
+  }
+
+  void expect(bool ok, const nlohmann::json& v, const Property& p, const std::string& field) const {
+    if (!ok) fail(field, "must be " + std::string(kind_name(p.kind)) + ", found " + v.dump().substr(0, 60));
+  }
+
+  void value(const nlohmann::json& v, const Property& p, const std::string& field) {
+    switch (p.kind) {
+      case Kind::Uint: expect(is_uint(v), v, p, field); break;
+      case Kind::Number: expect(v.is_number(), v, p, field); break;
+      case Kind::Bool: expect(v.is_boolean(), v, p, field); break;
+      case Kind::String: expect(v.is_string(), v, p, field); break;
+      case Kind::Object:
+        expect(v.is_object(), v, p, field);
+        object(v, p.schema, field);
+        break;
+      case Kind::ArrayOfUint:
+      case Kind::ArrayOfNumber:
+      case Kind::ArrayOfString:
+      case Kind::ArrayOfObject: {
+        expect(v.is_array(), v, p, field);
+        for (size_t i = 0; i < v.size(); ++i) {
+          const nlohmann::json& e = v[i];
+          bool ok = p.kind == Kind::ArrayOfUint     ? is_uint(e)
+                    : p.kind == Kind::ArrayOfNumber ? e.is_number()
+                    : p.kind == Kind::ArrayOfString ? e.is_string()
+                                                    : e.is_object();
+          std::string item = field + "[" + std::to_string(i) + "]";
+          if (!ok) fail(item, "must be " + std::string(element_name(p.kind)) + ", found " + e.dump().substr(0, 60));
+          if (p.kind == Kind::ArrayOfObject) object(e, p.schema, item);
+        }
+        break;
+      }
+      case Kind::MapOfUint:
+        expect(v.is_object(), v, p, field);
+        for (auto e = v.begin(); e != v.end(); ++e) {
+          if (!is_uint(*e)) fail(field + "." + e.key(), "must be a non-negative integer, found " + e->dump().substr(0, 60));
+        }
+        break;
+    }
+  }
+
+  const std::string& path_;
+};
+
+// tinygltf hands image bytes from a bufferView to the image callback without
+// checking that the view lies inside its buffer; check it here, on the
+// declared sizes (tinygltf checks each buffer's data against its byteLength).
+void check_buffer_views(const std::string& path, const nlohmann::json& doc) {
+  static const nlohmann::json kEmpty = nlohmann::json::array();
+  const nlohmann::json& buffers = doc.contains("buffers") ? doc["buffers"] : kEmpty;
+  const nlohmann::json& views = doc.contains("bufferViews") ? doc["bufferViews"] : kEmpty;
+  for (size_t i = 0; i < views.size(); ++i) {
+    const nlohmann::json& v = views[i];
+    std::string label = "invalid glTF: bufferViews[" + std::to_string(i) + "]";
+    uint64_t b = v["buffer"].get<uint64_t>();
+    if (b >= buffers.size()) {
+      throw InputError(path, label + " buffer " + std::to_string(b) + " out of range (" + std::to_string(buffers.size()) + " buffers)");
+    }
+    uint64_t offset = v.value("byteOffset", uint64_t(0));
+    uint64_t length = v["byteLength"].get<uint64_t>();
+    uint64_t buffer_length = buffers[b]["byteLength"].get<uint64_t>();
+    if (length == 0 || offset + length > buffer_length) {
+      throw InputError(path, label + " (byteOffset " + std::to_string(offset) + ", byteLength " + std::to_string(length) +
+                                 ") does not fit in buffer " + std::to_string(b) + " (" + std::to_string(buffer_length) + " bytes)");
+    }
+  }
+}
+
+}  // namespace
+
+bool gltf_extension_supported(const std::string& name) { return name == "KHR_lights_punctual"; }
+
+void validate_gltf_schema(const std::string& path, const nlohmann::json& doc) {
+  if (!doc.is_object()) throw InputError(path, "invalid glTF: the document must be a JSON object");
+  SchemaChecker(path).object(doc, "glTF", "");
+  check_buffer_views(path, doc);
+  if (auto req = doc.find("extensionsRequired"); req != doc.end()) {
+    for (const nlohmann::json& e : *req) {
+      std::string name = e.get<std::string>();
+      if (!gltf_extension_supported(name)) {
+        throw InputError(path, "requires extension " + name + ", which this renderer does not support");
+      }
+    }
+  }
+}
+
+}  // namespace cr

@@ -1,0 +1,40 @@
+#pragma once
+// A glTF metallic-roughness material evaluated at one surface point: factors
+// times textures times vertex colour, the normal map applied.
+#include <glm/glm.hpp>
+
+#include "engine/scene/scene.h"
+#include "engine/shading/surface.h"
+
+namespace cr {
+
+// Luminance (cd/m^2) of emissive colour 1.0. glTF leaves emissive unitless;
+// 1000 cd/m^2 is a bright display or lit sign: it reads as glowing at night
+// and indoor exposures (EV100 5-10, where white is 38-1200 cd/m^2) and, as
+// real signs do, fades next to sunlit surfaces (EV100 ~15, white ~39000 cd/m^2).
+inline constexpr float kEmissiveNits = 1000.0f;
+
+struct MaterialSample {
+  glm::vec3 base_color{1.0f};  // linear: factor * texture * vertex colour
+  float alpha = 1.0f;          // factor * texture alpha * vertex colour alpha
+  float metallic = 1.0f;
+  float roughness = 1.0f;      // perceptual, before the BRDF's minimum
+  glm::vec3 normal{0.0f, 1.0f, 0.0f};  // unit, world space, normal map applied
+  float occlusion = 1.0f;      // ambient occlusion after strength
+  glm::vec3 emissive{0.0f};    // cd/m^2
+};
+
+// The default sampler of glTF ("repeat wrapping and auto filtering"): trilinear.
+const Sampler& default_sampler();
+
+// Linear RGBA of a material texture at the surface (its LOD from the surface's
+// UV derivatives); opaque white when the reference holds no image.
+glm::vec4 sample_material_texture(const Scene& scene, const TextureRef& ref, const SurfaceSample& surface);
+
+// Base colour alpha: factor * texture alpha * vertex colour alpha, in [0, 1].
+// Coverage for MASK (compared with alpha_cutoff) and opacity for BLEND.
+float material_alpha(const Scene& scene, const Material& material, const SurfaceSample& surface);
+
+MaterialSample evaluate_material(const Scene& scene, const Material& material, const SurfaceSample& surface);
+
+}  // namespace cr

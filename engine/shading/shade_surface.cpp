@@ -1,0 +1,64 @@
+#include "engine/shading/shade_surface.h"
+
+#include <cmath>
+
+#include "engine/shading/brdf.h"
+#include "engine/shading/environment_brdf.h"
+#include "engine/shading/material_eval.h"
+#include "engine/shading/safe_normalize.h"
+#include "engine/shading/sh_lighting.h"
+
+namespace cr {
+namespace {
+
+constexpr float kPi = 3.14159265358979f;
+// Least n.v shaded: normal maps and interpolated normals can face away from
+// the viewer, where the BRDF is undefined; such normals are bent back just
+// far enough to be seen (a cheap form of the usual "visible normal" fix).
+constexpr float kMinNdotV = 1e-3f;
+
+glm::vec3 finite_or_zero(const glm::vec3& c) {
+  return {std::isfinite(c.x) ? c.x : 0.0f, std::isfinite(c.y) ? c.y : 0.0f, std::isfinite(c.z) ? c.z : 0.0f};
+}
+
+}  // namespace
+
+glm::vec4 shade_surface(const ShadingInputs& in, const Material& material, const SurfaceSample& surface) {
+  const MaterialSample m = evaluate_material(*in.scene, material, surface);
+  const glm::vec3 interpolated_normal = normalize_or(surface.normal, glm::vec3(0.0f, 1.0f, 0.0f));
+  const glm::vec3 v = normalize_or(glm::vec3(in.camera_position - glm::dvec3(surface.position)), interpolated_normal);
+  glm::vec3 n = m.normal;
+  const float n_dot_v_raw = glm::dot(n, v);
+  if (!(n_dot_v_raw >= kMinNdotV)) n = normalize_or(n + v * (kMinNdotV - n_dot_v_raw), v);
+  const float n_dot_v = std::max(glm::dot(n, v), kMinNdotV);
+
+  const BrdfParams brdf{m.base_color, m.metallic, m.roughness};
+  const LightEnvironment& light = *in.light;
+  glm::vec3 radiance = m.emissive;
+
+  const glm::vec3 l = normalize_or(light.sun_direction, glm::vec3(0.0f, 1.0f, 0.0f));
+  const float n_dot_l = glm::dot(n, l);
+  if (n_dot_l > 0.0f) {
+    const glm::vec3 sun = light.sun_at ? light.sun_at(surface.position) : light.sun_illuminance;
+    if (sun != glm::vec3(0.0f)) {
+      // The shadow lookup uses the interpolated normal: its bias models the
+      // geometry in the depth map, which the normal map does not change.
+      const float visibility =
+          (in.shadow && in.shadow->size > 0) ? in.shadow->visibility(surface.position, interpolated_normal) : 1.0f;
+      if (visibility > 0.0f) radiance += evaluate_brdf(brdf, n, v, l) * (n_dot_l * visibility) * sun;
+    }
+  }
+
+  const EnvironmentBrdf env = environment_brdf(std::max(m.roughness, kMinRoughness), n_dot_v);
+  const glm::vec3 irradiance = glm::max(sh_irradiance(light.ambient_sh, n), glm::vec3(0.0f));
+  const glm::vec3 reflected = glm::max(sh_radiance(light.ambient_sh, glm::reflect(-v, n)), glm::vec3(0.0f));
+  const glm::vec3 diffuse =
+      irradiance * ((1.0f - m.metallic) * (1.0f - env.albedo(glm::vec3(kDielectricF0)).x) / kPi) * m.base_color;
+  const glm::vec3 specular = reflected * env.albedo(specular_f0(brdf));
+  radiance += (diffuse + specular) * m.occlusion;
+
+  const float alpha = material.alpha_mode == AlphaMode::Blend ? m.alpha : 1.0f;
+  return {finite_or_zero(radiance), alpha};
+}
+
+}  // namespace cr

@@ -1,0 +1,34 @@
+#pragma once
+// Lighting of one surface point: the sun (with its shadow) through the glTF
+// BRDF, ambient sky light from SH, emission. Returns linear radiance (cd/m^2)
+// towards the camera and the opacity used for blending.
+#include <glm/glm.hpp>
+
+#include "engine/scene/scene.h"
+#include "engine/shading/light_environment.h"
+#include "engine/shading/shadow_map.h"
+#include "engine/shading/surface.h"
+
+namespace cr {
+
+struct ShadingInputs {
+  const Scene* scene = nullptr;
+  const LightEnvironment* light = nullptr;
+  const ShadowMap* shadow = nullptr;  // null or size 0: unshadowed
+  glm::dvec3 camera_position{0.0};
+};
+
+// rgb: radiance leaving the surface towards the camera, not premultiplied.
+// a: 1 for OPAQUE and MASK (fragments below the cutoff never get here),
+// material_alpha for BLEND. Every component is finite for any input.
+//
+// sun      = BRDF(n, v, l) * max(n.l, 0) * E_sun * shadow visibility, E_sun =
+//            light->sun_at(position) when set, else light->sun_illuminance;
+// ambient  = occlusion * [ E_sh(n) * (1 - metallic) baseColor/pi * (1 - albedo_spec(0.04))
+//                        + L_sh(reflect(-v, n)) * albedo_spec(f0) ],
+//            albedo_spec = Karis' environment-BRDF fit (environment_brdf.h),
+//            E_sh / L_sh = SH irradiance / radiance, clamped at 0;
+// emission = emissive factor * texture * kEmissiveNits.
+glm::vec4 shade_surface(const ShadingInputs& in, const Material& material, const SurfaceSample& surface);
+
+}  // namespace cr

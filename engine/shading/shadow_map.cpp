@@ -1,0 +1,167 @@
+// Fitting and sampling of the sun's shadow map (shadow_map.h).
+//
+// Texel layout shared with the rasterizer that renders it: NDC (x, y) of
+// light_view_proj map to texel column (x + 1) / 2 * size and row
+// (1 - y) / 2 * size (row 0 at y = +1, as in the frame buffers), texel
+// centres at integer + 0.5; depth[row * size + column] holds the largest
+// NDC z of the texel centre's ray (reversed: 1 nearest the sun, 0 empty).
+//
+// Bias. A receiver is moved along its normal by
+//   offset = kNormalOffsetTexels * (pcf_radius + 1) * texel * sin(theta),
+// theta the angle between normal and sun, then compared with a constant
+// margin of kConstantBiasTexels texels plus a few float ulps. Why this is
+// enough on any plane: PCF compares the receiver with depths stored up to
+// (r + 1) texels away in x and in y, i.e. up to (r + 1) sqrt(2) texels along
+// the plane's depth gradient, over which the plane's own depth changes by
+// (r + 1) sqrt(2) texel tan(theta). Lifting the receiver by h off its plane
+// puts it h / cos(theta) nearer the sun, so h = 1.5 (r + 1) texel sin(theta)
+// clears its own plane at every sun angle without a tan() that blows up at
+// grazing light (no acne). The lift is at most 1.5 (r + 1) texels and only
+// along the normal, so shadows still start at the foot of an object standing
+// on the ground (no peter-panning); gaps thinner than that lift (a slab
+// hovering within ~3 texels of the ground) leak light, the usual price.
+#include "engine/shading/shadow_map.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace cr {
+namespace {
+
+constexpr float kNormalOffsetTexels = 1.5f;
+constexpr float kConstantBiasTexels = 0.5f;
+// Rounding of the rasterizer's depth interpolation near z = 1 (ulp 6e-8).
+constexpr float kDepthEpsilon = 1.0f / (1 << 20);
+
+// Unit axes of the light's view: x, y across the map, z towards the sun.
+struct LightBasis {
+  glm::dvec3 x, y, z;
+};
+
+LightBasis light_basis(const glm::vec3& direction_to_sun) {
+  LightBasis b;
+  const glm::dvec3 d(direction_to_sun);
+  const double len = glm::length(d);
+  b.z = len > 0.0 && std::isfinite(len) ? d / len : glm::dvec3(0.0, 1.0, 0.0);
+  // A fixed reference axis keeps the map's orientation (and so its texel
+  // grid) independent of the camera; switch it near the zenith.
+  const glm::dvec3 ref = std::abs(b.z.y) > 0.99 ? glm::dvec3(0.0, 0.0, 1.0) : glm::dvec3(0.0, 1.0, 0.0);
+  b.x = glm::normalize(glm::cross(ref, b.z));
+  b.y = glm::cross(b.z, b.x);
+  return b;
+}
+
+}  // namespace
+
+ShadowMap fit_shadow_map(const Camera& view, const glm::vec3& direction_to_sun, float shadow_distance, int size,
+                         int pcf_radius, const glm::vec3& scene_min, const glm::vec3& scene_max) {
+  ShadowMap m;
+  if (size <= 0) return m;
+  const LightBasis basis = light_basis(direction_to_sun);
+
+  // Bounding sphere of the frustum slice [near, far]: its centre on the view
+  // axis at distance c equalises the distances to the near and far corners,
+  // (c - n)^2 + n^2 k^2 = (f - c)^2 + f^2 k^2 with k the corner slope, unless
+  // c would pass the far plane. It depends only on fov, aspect and distances,
+  // so rotating the camera never changes the map's scale.
+  const double n = std::max(double(view.znear), 1e-6);
+  const double f = std::max(double(shadow_distance), 2.0 * n);
+  const double ty = std::tan(0.5 * double(view.vfov_rad));
+  const double k2 = ty * ty * (1.0 + double(view.aspect) * double(view.aspect));
+  const double c = std::min(0.5 * (f + n) * (1.0 + k2), f);
+  const double radius = std::sqrt(std::max((c - n) * (c - n) + n * n * k2, (f - c) * (f - c) + f * f * k2));
+  const glm::dvec3 centre = view.position + glm::dvec3(view.forward) * c;
+
+  // Two spare texels: snapping moves the centre by up to half a texel per
+  // axis, and the sphere must stay inside the map.
+  const double texel = 2.0 * radius / std::max(size - 2, 1);
+  const double half_extent = 0.5 * size * texel;
+  // Snap the centre to the world-aligned texel grid of the light's view, so
+  // a translating camera moves the map by whole texels (no shimmering).
+  const double sx = std::floor(glm::dot(centre, basis.x) / texel + 0.5) * texel;
+  const double sy = std::floor(glm::dot(centre, basis.y) / texel + 0.5) * texel;
+  const double sz = glm::dot(centre, basis.z);
+  m.origin = basis.x * sx + basis.y * sy + basis.z * sz;
+
+  // Depth: receivers lie within the sphere; casters may be anywhere between
+  // it and the sun, so the near (sunward) end reaches the scene's bounds.
+  double toward_sun = radius;
+  for (int i = 0; i < 8; ++i) {
+    const glm::dvec3 corner((i & 1) ? scene_max.x : scene_min.x, (i & 2) ? scene_max.y : scene_min.y,
+                            (i & 4) ? scene_max.z : scene_min.z);
+    const double d = glm::dot(corner - m.origin, basis.z);
+    if (std::isfinite(d)) toward_sun = std::max(toward_sun, d);
+  }
+  const double d_max = toward_sun + texel;
+  const double d_min = -radius - texel;
+  const double range = d_max - d_min;
+
+  // Rows of the orthographic projection of (world - origin).
+  glm::dmat4 p(0.0);
+  for (int j = 0; j < 3; ++j) {
+    p[j][0] = basis.x[j] / half_extent;
+    p[j][1] = basis.y[j] / half_extent;
+    p[j][2] = basis.z[j] / range;
+  }
+  p[3][2] = -d_min / range;
+  p[3][3] = 1.0;
+
+  m.size = size;
+  m.light_view_proj = glm::mat4(p);
+  m.texel_world_size = float(texel);
+  m.depth_range = float(range);
+  m.direction_to_sun = glm::vec3(basis.z);
+  m.pcf_radius = std::max(pcf_radius, 0);
+  m.depth.assign(size_t(size) * size_t(size), 0.0f);
+  return m;
+}
+
+float ShadowMap::visibility(const glm::vec3& world_pos, const glm::vec3& normal) const {
+  if (size <= 0 || depth.size() < size_t(size) * size_t(size)) return 1.0f;
+  const int r = std::max(pcf_radius, 0);
+
+  const float cos_theta = std::clamp(glm::dot(normal, direction_to_sun), -1.0f, 1.0f);
+  const float sin_theta = std::sqrt(std::max(0.0f, 1.0f - cos_theta * cos_theta));
+  const glm::vec3 offset = normal * (kNormalOffsetTexels * float(r + 1) * texel_world_size * sin_theta);
+  const glm::vec3 p(glm::dvec3(world_pos) - origin + glm::dvec3(offset));
+  const glm::vec4 clip = light_view_proj * glm::vec4(p, 1.0f);
+  // Outside the map's volume nothing was recorded: lit.
+  if (!(std::abs(clip.x) <= 1.0f && std::abs(clip.y) <= 1.0f && clip.z >= 0.0f && clip.z <= 1.0f)) return 1.0f;
+  const float receiver = clip.z + kConstantBiasTexels * texel_world_size / depth_range + kDepthEpsilon;
+
+  // A (2r+1)-texel box filter centred on the point, taps weighted by their
+  // overlap with it: the edge rows and columns get the bilinear fractions, so
+  // visibility varies continuously as the point moves.
+  const float tx = (clip.x * 0.5f + 0.5f) * float(size) - 0.5f;
+  const float ty = (0.5f - clip.y * 0.5f) * float(size) - 0.5f;
+  const float fx = std::floor(tx);
+  const float fy = std::floor(ty);
+  const float ax = tx - fx;
+  const float ay = ty - fy;
+  const int x0 = int(fx);
+  const int y0 = int(fy);
+  float lit = 0.0f;
+  float shadowed = 0.0f;
+  for (int dy = -r; dy <= r + 1; ++dy) {
+    const float wy = dy == -r ? 1.0f - ay : (dy == r + 1 ? ay : 1.0f);
+    const int y = y0 + dy;
+    for (int dx = -r; dx <= r + 1; ++dx) {
+      const float wx = dx == -r ? 1.0f - ax : (dx == r + 1 ? ax : 1.0f);
+      const int x = x0 + dx;
+      // Taps beyond the border have no occluder recorded.
+      const bool in_map = x >= 0 && y >= 0 && x < size && y < size;
+      if (!in_map || depth[size_t(y) * size_t(size) + size_t(x)] <= receiver) {
+        lit += wx * wy;
+      } else {
+        shadowed += wx * wy;
+      }
+    }
+  }
+  // Both sums, so that fully lit and fully shadowed come out exactly 1 and 0
+  // whatever the rounding of the weights.
+  if (!(shadowed > 0.0f)) return 1.0f;
+  if (!(lit > 0.0f)) return 0.0f;
+  return lit / (lit + shadowed);
+}
+
+}  // namespace cr

@@ -1,0 +1,39 @@
+#pragma once
+// The surface seen by a pixel: the original triangle's vertex attributes,
+// interpolated with the rasterizer's perspective-correct barycentrics and
+// placed in world space.
+#include <cstdint>
+
+#include <glm/glm.hpp>
+
+#include "engine/raster/barycentrics.h"
+#include "engine/scene/scene.h"
+
+namespace cr {
+
+struct SurfaceSample {
+  glm::vec3 position{0.0f};               // world space
+  glm::vec3 normal{0.0f, 1.0f, 0.0f};     // unit, world space, towards the viewer's side for back faces
+  glm::vec4 tangent{1.0f, 0.0f, 0.0f, 1.0f};  // unit xyz orthogonal to normal; w = bitangent sign
+  glm::vec2 uv{0.0f};                     // TEXCOORD_0
+  glm::vec2 duv_dx{0.0f};                 // UV change per pixel step in x
+  glm::vec2 duv_dy{0.0f};                 // ... and in y
+  glm::vec4 color{1.0f};                  // COLOR_0, linear RGBA
+  bool front_facing = true;
+};
+
+// Interpolates triangle `triangle_index` of `primitive` placed by `draw`:
+// positions by Draw::world, normals by Draw::normal_matrix, tangents by the
+// world 3x3 (bitangent sign flipped for mirrored draws); UV derivatives from
+// the barycentric derivatives. Missing streams default to uv 0, colour 1 and
+// an arbitrary tangent orthogonal to the normal. A back face flips the normal
+// and tangent frame: the rasterizer culls back faces of single-sided
+// materials (glTF), so a back face here belongs to a double-sided one.
+SurfaceSample interpolate_surface(const Primitive& primitive, const Draw& draw, uint32_t triangle_index,
+                                  const Barycentrics& bary, bool front_facing);
+
+// A unit tangent orthogonal to unit n, continuous except where n.z changes
+// sign (Duff et al. 2017, "Building an Orthonormal Basis, Revisited").
+glm::vec3 orthogonal_tangent(const glm::vec3& n);
+
+}  // namespace cr

@@ -1,0 +1,100 @@
+// Profiles: defaults, every engine key, plugin sections, strict errors.
+#include <string>
+
+#include <doctest/doctest.h>
+
+#include "engine/core/error.h"
+#include "engine/core/profile.h"
+
+namespace {
+
+const std::string kBad = std::string(CR_TEST_DATA_DIR) + "/bad";
+const std::vector<std::string> kPlugins = {"atmosphere", "fog"};
+
+std::string parse_error(const nlohmann::json& doc) {
+  try {
+    cr::parse_profile(doc, "inline.json", kPlugins);
+  } catch (const cr::InputError& e) {
+    CHECK(e.file() == "inline.json");
+    return e.what();
+  }
+  FAIL("expected InputError for " << doc.dump());
+  return "";
+}
+
+}  // namespace
+
+TEST_CASE("profile: every engine key is read, plugin sections are kept raw") {
+  nlohmann::json doc = {{"name", "mobile"},       {"resolution", {960, 540}}, {"tile_size", 32},
+                        {"shadow_map_size", 1024}, {"shadow_distance", 80.5}, {"shadow_pcf_radius", 0},
+                        {"frame_budget_ms", 16.6}, {"precision", "fixed16"},   {"fog", {{"slices", 32}}}};
+  cr::Profile p = cr::parse_profile(doc, "profiles/mobile.json", kPlugins);
+  CHECK(p.name == "mobile");
+  CHECK(p.path == "profiles/mobile.json");
+  CHECK(p.width == 960);
+  CHECK(p.height == 540);
+  CHECK(p.tile_size == 32);
+  CHECK(p.shadow_map_size == 1024);
+  CHECK(p.shadow_distance == doctest::Approx(80.5));
+  CHECK(p.shadow_pcf_radius == 0);
+  CHECK(p.frame_budget_ms == doctest::Approx(16.6));
+  CHECK(p.precision == cr::Precision::Fixed16);
+  CHECK(p.plugins["fog"]["slices"] == 32);
+  CHECK_FALSE(p.plugins.contains("atmosphere"));
+}
+
+TEST_CASE("profile: missing keys keep their defaults; the name defaults to the file stem") {
+  cr::Profile p = cr::parse_profile(nlohmann::json::object(), "profiles/desktop.json", kPlugins);
+  cr::Profile defaults;
+  CHECK(p.name == "desktop");
+  CHECK(p.width == defaults.width);
+  CHECK(p.tile_size == defaults.tile_size);
+  CHECK(p.shadow_map_size == defaults.shadow_map_size);
+  CHECK(p.precision == cr::Precision::Float32);
+  CHECK(cr::parse_profile({{"shadow_map_size", 0}}, "p.json", kPlugins).shadow_map_size == 0);
+}
+
+TEST_CASE("profile: out-of-range values and unknown keys name the key") {
+  CHECK(parse_error({{"tile_size", 48}}).find("'tile_size'") != std::string::npos);
+  CHECK(parse_error({{"tile_size", 512}}).find("'tile_size'") != std::string::npos);
+  CHECK(parse_error({{"resolution", {16385, 10}}}).find("'resolution'") != std::string::npos);
+  CHECK(parse_error({{"resolution", {640}}}).find("'resolution'") != std::string::npos);
+  CHECK(parse_error({{"resolution", {640.5, 360}}}).find("'resolution'") != std::string::npos);
+  CHECK(parse_error({{"shadow_map_size", 63}}).find("'shadow_map_size'") != std::string::npos);
+  CHECK(parse_error({{"shadow_map_size", 8193}}).find("'shadow_map_size'") != std::string::npos);
+  CHECK(parse_error({{"shadow_distance", 0}}).find("'shadow_distance'") != std::string::npos);
+  CHECK(parse_error({{"shadow_pcf_radius", 5}}).find("'shadow_pcf_radius'") != std::string::npos);
+  CHECK(parse_error({{"frame_budget_ms", -1}}).find("'frame_budget_ms'") != std::string::npos);
+  CHECK(parse_error({{"frame_budget_ms", "fast"}}).find("must be a number") != std::string::npos);
+  CHECK(parse_error({{"precision", "float16"}}).find("'precision'") != std::string::npos);
+  CHECK(parse_error({{"clouds", {}}}).find("unknown key 'clouds'") != std::string::npos);
+  CHECK(parse_error(nlohmann::json::array()).find("JSON object") != std::string::npos);
+}
+
+TEST_CASE("profile files: malformed JSON reports the position; bad values name file and key") {
+  struct FileCase {
+    const char* file;
+    const char* error;
+  };
+  for (const FileCase& c : {FileCase{"profile_malformed.json", "line 1, column"},
+                            FileCase{"profile_unknown_key.json", "unknown key 'tile_szie'"},
+                            FileCase{"profile_tile_size.json", "'tile_size'"},
+                            FileCase{"profile_resolution.json", "'resolution'"},
+                            FileCase{"profile_precision.json", "'precision'"},
+                            FileCase{"profile_shadow_map_size.json", "'shadow_map_size'"},
+                            FileCase{"profile_duplicate_key.json", "key 'tile_size' appears twice"},
+                            FileCase{"no_such_profile.json", "cannot open"}}) {
+    const std::string path = kBad + "/" + c.file;
+    CAPTURE(path);
+    try {
+      cr::load_profile(path, kPlugins);
+      FAIL_CHECK("loaded, but should have been rejected");
+    } catch (const cr::InputError& e) {
+      std::string what = e.what();
+      CAPTURE(what);
+      CHECK(e.file() == path);
+      CHECK(what.rfind(path + ": ", 0) == 0);
+      CHECK(what.find(c.error) != std::string::npos);
+    }
+  }
+}

@@ -1,0 +1,110 @@
+#pragma once
+// Small synthetic fog setups shared by the fog tests: a camera, a frame view,
+// light and an optional shadow map with a wall casting a shaft edge.
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "engine/render/frame_buffers.h"
+#include "engine/render/plugin.h"
+#include "engine/shading/light_environment.h"
+#include "engine/shading/shadow_map.h"
+#include "engine/shading/sh_lighting.h"
+#include "fog/froxel_fog.h"
+
+namespace cr::fog_test {
+
+inline Camera camera_at(const glm::dvec3& pos, const glm::dvec3& target, int w, int h, float vfov_deg = 60.0f) {
+  return Camera::look_at(pos, target, glm::radians(vfov_deg), float(w) / float(h), 0.1f);
+}
+
+inline FrameView frame_view(const Camera& cam, const Camera& prev, int frame, bool history_valid, int w, int h) {
+  FrameView v;
+  v.frame = frame;
+  v.width = w;
+  v.height = h;
+  v.camera = cam;
+  v.prev_camera = prev;
+  v.history_valid = history_valid;
+  return v;
+}
+
+inline LightEnvironment light(const glm::vec3& sun_dir, float sun_lux, float ambient) {
+  LightEnvironment l;
+  l.sun_direction = glm::normalize(sun_dir);
+  l.sun_illuminance = glm::vec3(sun_lux);
+  l.ambient_sh = sh_constant_radiance(glm::vec3(ambient));
+  return l;
+}
+
+// Shadow map over the region around the origin with a tall thin wall at
+// x in [-1, 1] (all z), so the fog behind it (away from the sun) is in shadow.
+inline ShadowMap wall_shadow(const Camera& cam, const glm::vec3& sun_dir, float wall_height = 40.0f) {
+  ShadowMap m = fit_shadow_map(cam, glm::normalize(sun_dir), 120.0f, 512, 1, glm::vec3(-200, 0, -200),
+                               glm::vec3(200, 60, 200));
+  // Each texel's sun ray is linear in NDC z: intersect it with the wall box
+  // (slabs in x and y) and record the sunward end of the overlap.
+  const glm::mat4 inv = glm::inverse(m.light_view_proj);
+  for (int row = 0; row < m.size; ++row)
+    for (int col = 0; col < m.size; ++col) {
+      const float x = (float(col) + 0.5f) / float(m.size) * 2.0f - 1.0f;
+      const float y = 1.0f - (float(row) + 0.5f) / float(m.size) * 2.0f;
+      const glm::dvec3 w0 = glm::dvec3(glm::vec3(inv * glm::vec4(x, y, 0.0f, 1.0f))) + m.origin;
+      const glm::dvec3 w1 = glm::dvec3(glm::vec3(inv * glm::vec4(x, y, 1.0f, 1.0f))) + m.origin;
+      double lo = 0.0, hi = 1.0;
+      auto slab = [&](double a, double b, double mn, double mx) {
+        const double d = b - a;
+        if (std::abs(d) < 1e-12) {
+          if (a < mn || a > mx) hi = -1.0;
+          return;
+        }
+        double t0 = (mn - a) / d, t1 = (mx - a) / d;
+        if (t0 > t1) std::swap(t0, t1);
+        lo = std::max(lo, t0);
+        hi = std::min(hi, t1);
+      };
+      slab(w0.x, w1.x, -1.0, 1.0);
+      slab(w0.y, w1.y, 0.0, double(wall_height));
+      m.depth[size_t(row) * m.size + col] = hi >= lo ? float(hi) : 0.0f;
+    }
+  return m;
+}
+
+inline FogSceneSettings uniform_fog(float extinction, const glm::vec3& albedo, float g = 0.0f) {
+  FogSceneSettings s;
+  s.height_fog = true;
+  s.base_height = 1e4f;  // everything below the base: constant density
+  s.max_height = 2e4f;
+  s.extinction = extinction;
+  s.albedo = albedo;
+  s.anisotropy = g;
+  return s;
+}
+
+// Renders the froxel volume for one frame and composites it over `base`
+// colour with the given per-pixel distances.
+inline std::vector<glm::vec3> composite(FroxelFog& fog, const FrameView& view, const LightEnvironment& light,
+                                        const ShadowMap& shadow, JobSystem& jobs,
+                                        const std::vector<float>& distance, const glm::vec3& base) {
+  fog.render(view, light, shadow, jobs);
+  FrameBuffers b;
+  b.resize(view.width, view.height);
+  b.distance = distance;
+  for (glm::vec3& c : b.color) c = base;
+  fog.composite(b, 0, 0, view.width, view.height);
+  return b.color;
+}
+
+inline float luminance(const glm::vec3& c) { return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b; }
+
+// Mean relative luminance difference of b against a.
+inline double mean_relative_error(const std::vector<glm::vec3>& a, const std::vector<glm::vec3>& b) {
+  double sum = 0.0;
+  for (size_t i = 0; i < a.size(); ++i) {
+    const double la = luminance(a[i]), lb = luminance(b[i]);
+    sum += std::abs(lb - la) / std::max(la, 1e-6);
+  }
+  return sum / double(a.size());
+}
+
+}  // namespace cr::fog_test

@@ -1,0 +1,48 @@
+#include <doctest/doctest.h>
+
+#include <cstring>
+
+#include "fog_test_scene.h"
+
+using namespace cr;
+using namespace cr::fog_test;
+
+TEST_CASE("froxel fog is bit-identical for 1, 2 and 3 threads") {
+  const int w = 80, h = 48;
+  FogSceneSettings s = uniform_fog(0.03f, glm::vec3(0.9f), 0.4f);
+  s.base_height = 0.0f;
+  s.max_height = 20.0f;
+  FogVolume v;
+  v.center = {0, 2, -15};
+  v.half_size = {4, 3, 5};
+  v.extinction = 0.5f;
+  v.fade = 1.0f;
+  v.noise.enabled = true;
+  s.volumes.push_back(v);
+  const glm::vec3 sun(0.6f, 0.4f, 0.3f);
+  std::vector<std::vector<IntegratedFroxel>> volumes;
+  std::vector<std::vector<glm::vec3>> images;
+  for (unsigned threads : {1u, 2u, 3u}) {
+    JobSystem jobs(threads);
+    FogProfileSettings p;
+    p.slices = 24;
+    FroxelFog fog(p, s);
+    Camera prev;
+    std::vector<glm::vec3> image;
+    std::vector<float> distance(size_t(w) * h);
+    for (size_t i = 0; i < distance.size(); ++i) distance[i] = i % 3 == 0 ? INFINITY : 2.0f + float(i % 50);
+    for (int f = 0; f < 3; ++f) {
+      const Camera cam = camera_at({-3.0 + f, 2, 10}, {0, 2, -10}, w, h);
+      image = composite(fog, frame_view(cam, f ? prev : cam, f, f > 0, w, h), light(sun, 5e4f, 100.0f),
+                        wall_shadow(cam, sun), jobs, distance, glm::vec3(1.0f));
+      prev = cam;
+    }
+    volumes.push_back(fog.volume());
+    images.push_back(image);
+  }
+  for (size_t t = 1; t < volumes.size(); ++t) {
+    REQUIRE(volumes[t].size() == volumes[0].size());
+    CHECK(std::memcmp(volumes[t].data(), volumes[0].data(), volumes[0].size() * sizeof(IntegratedFroxel)) == 0);
+    CHECK(std::memcmp(images[t].data(), images[0].data(), images[0].size() * sizeof(glm::vec3)) == 0);
+  }
+}

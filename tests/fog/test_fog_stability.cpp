@@ -1,0 +1,117 @@
+// Stability sweep: no NaN/Inf and physically bounded output over extinction
+// 0 .. mean free path 0.1 m, anisotropy -0.99 .. 0.99, both phase functions,
+// the camera inside a volume, volumes crossing the near plane, zero-size
+// volumes and camera cuts.
+#include <doctest/doctest.h>
+
+#include <cmath>
+
+#include "fog/phase_function.h"
+#include "fog_test_scene.h"
+
+using namespace cr;
+using namespace cr::fog_test;
+
+namespace {
+
+constexpr int kW = 40, kH = 24;
+constexpr float kSunLux = 1e5f, kAmbient = 1e3f;
+
+// L <= (max phase * E + La) (1 - T) for albedo <= 1 (energy conservation).
+void check_bounded(const FroxelFog& fog, FogPhase phase, float g, float volume_extinction_max) {
+  (void)volume_extinction_max;
+  const float p_max = std::max(evaluate_phase(phase, g, 1.0f), evaluate_phase(phase, g, -1.0f));
+  const float bound = (p_max * kSunLux + kAmbient) * 1.0001f + 1e-3f;
+  for (const IntegratedFroxel& f : fog.volume()) {
+    REQUIRE(std::isfinite(f.transmittance));
+    REQUIRE(f.transmittance >= 0.0f);
+    REQUIRE(f.transmittance <= 1.0f);
+    for (int c = 0; c < 3; ++c) {
+      REQUIRE(std::isfinite(f.in_scatter[c]));
+      REQUIRE(f.in_scatter[c] >= 0.0f);
+      REQUIRE(f.in_scatter[c] <= bound * (1.0f - f.transmittance) + 1e-3f);
+    }
+  }
+}
+
+void check_image(const std::vector<glm::vec3>& img) {
+  for (const glm::vec3& c : img)
+    for (int i = 0; i < 3; ++i) {
+      REQUIRE(std::isfinite(c[i]));
+      REQUIRE(c[i] >= 0.0f);
+    }
+}
+
+std::vector<float> mixed_distances() {
+  std::vector<float> d(size_t(kW) * kH);
+  const float values[] = {0.0f, 0.01f, 0.1f, 0.5f, 3.0f, 30.0f, 1e4f, INFINITY, NAN};
+  for (size_t i = 0; i < d.size(); ++i) d[i] = values[i % 9];
+  return d;
+}
+
+}  // namespace
+
+TEST_CASE("stability sweep: extinction, anisotropy and phase") {
+  JobSystem jobs(2);
+  const Camera cam = camera_at({0, 2, 5}, {0, 2, -10}, kW, kH);
+  const glm::vec3 sun(0.2f, 0.5f, -0.8f);  // looking almost into the sun: the phase peak
+  const ShadowMap shadow = wall_shadow(cam, sun);
+  for (float extinction : {0.0f, 1e-4f, 0.02f, 1.0f, 10.0f})  // 10 /m = mean free path 0.1 m
+    for (float g : {-0.99f, -0.5f, 0.0f, 0.7f, 0.99f})
+      for (FogPhase phase : {FogPhase::HenyeyGreenstein, FogPhase::CornetteShanks}) {
+        CAPTURE(extinction);
+        CAPTURE(g);
+        FogSceneSettings s = uniform_fog(extinction, glm::vec3(1.0f), g);
+        s.phase = phase;
+        FogProfileSettings p;
+        p.slices = 16;
+        FroxelFog fog(p, s);
+        Camera prev = cam;
+        for (int f = 0; f < 2; ++f) {
+          const auto img = composite(fog, frame_view(cam, prev, f, f > 0, kW, kH), light(sun, kSunLux, kAmbient), shadow,
+                                     jobs, mixed_distances(), glm::vec3(1.0f));
+          check_image(img);
+          check_bounded(fog, phase, g, extinction);
+        }
+      }
+}
+
+TEST_CASE("stability: camera inside volumes, volumes crossing the near plane, zero-size volumes, cuts") {
+  JobSystem jobs(2);
+  FogSceneSettings s;
+  s.anisotropy = 0.9f;
+  auto add = [&](glm::dvec3 c, glm::vec3 half, float ext, FogBlend b, float fade, bool noise) {
+    FogVolume v;
+    v.center = c;
+    v.half_size = half;
+    v.extinction = ext;
+    v.blend = b;
+    v.fade = fade;
+    v.noise.enabled = noise;
+    s.volumes.push_back(v);
+  };
+  add({0, 2, 5}, {3, 3, 3}, 10.0f, FogBlend::Overwrite, 0.5f, true);           // contains the camera
+  add({0, 2, 4.95}, {5, 5, 0.02f}, 10.0f, FogBlend::Additive, 0.0f, false);   // thin sheet on the near plane
+  add({0, 2, 5}, {0, 0, 0}, 10.0f, FogBlend::Max, 1.0f, false);               // zero size
+  add({0, 2, 0}, {0, 1, 1}, 10.0f, FogBlend::Additive, 0.0f, false);          // zero along one axis
+  add({0, 2, -5}, {2, 2, 2}, 0.5f, FogBlend::Multiply, 1.0f, true);
+  add({0, 2, -8}, {4, 4, 4}, 0.01f, FogBlend::Min, 2.0f, false);
+  add({0, 2, 50}, {2, 2, 2}, 10.0f, FogBlend::Additive, 0.0f, false);         // behind the camera
+  FogProfileSettings p;
+  p.slices = 16;
+  FroxelFog fog(p, s);
+  const glm::vec3 sun(0.3f, 0.6f, -0.5f);
+  Camera prev;
+  for (int f = 0; f < 6; ++f) {
+    // Frames 0-2 inside the first volume; frame 3 cuts far away; 4-5 move fast.
+    const glm::dvec3 pos = f < 3 ? glm::dvec3(0.1 * f, 2, 5) : glm::dvec3(40.0 * f, 30, 80);
+    const Camera cam = camera_at(pos, pos + glm::dvec3(0.1, -0.05, -1), kW, kH);
+    const bool cut = f == 0 || f == 3;
+    const auto img = composite(fog, frame_view(cam, cut ? cam : prev, f, !cut, kW, kH), light(sun, kSunLux, kAmbient),
+                               wall_shadow(cam, sun), jobs, mixed_distances(), glm::vec3(0.5f));
+    check_image(img);
+    check_bounded(fog, FogPhase::HenyeyGreenstein, 0.9f, 10.0f);
+    if (f < 3) CHECK(fog.stats().voxelize.visible_volumes >= 4);
+    prev = cam;
+  }
+}

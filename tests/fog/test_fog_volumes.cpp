@@ -1,0 +1,146 @@
+#include <doctest/doctest.h>
+
+#include "fog/fog_medium.h"
+#include "fog_test_scene.h"
+
+using namespace cr;
+using namespace cr::fog_test;
+
+namespace {
+
+FogVolume box(glm::dvec3 c, glm::vec3 half, float ext, FogBlend b, glm::vec3 albedo = glm::vec3(1.0f)) {
+  FogVolume v;
+  v.center = c;
+  v.half_size = half;
+  v.extinction = ext;
+  v.blend = b;
+  v.albedo = albedo;
+  return v;
+}
+
+}  // namespace
+
+TEST_CASE("blend modes apply in file order over the height fog") {
+  FogSceneSettings s = uniform_fog(0.1f, glm::vec3(0.5f));
+  s.volumes = {box({0, 0, 0}, {1, 1, 1}, 0.4f, FogBlend::Additive),
+               box({0, 0, 0}, {1, 1, 1}, 0.25f, FogBlend::Max),
+               box({0, 0, 0}, {1, 1, 1}, 2.0f, FogBlend::Multiply, glm::vec3(0.5f)),
+               box({0, 0, 0}, {1, 1, 1}, 0.8f, FogBlend::Min)};
+  FogMedium m(s);
+  m.set_camera({0, 0, 10});
+  const glm::vec3 inside(0, 0, -10), outside(5, 0, -10);
+  CHECK(m.sample(outside).extinction == doctest::Approx(0.1f));
+  // 0.1 + 0.4 = 0.5; max(0.5, 0.25) = 0.5; x 2 = 1.0; min(1.0, 0.8) = 0.8.
+  const FogDensity d = m.sample(inside);
+  CHECK(d.extinction == doctest::Approx(0.8f));
+  // Scattering: 0.05 + 0.4 = 0.45; max 0.45; x (0.5 * 2) = 0.45; min(0.45, 0.8) = 0.45.
+  CHECK(d.scattering.x == doctest::Approx(0.45f));
+  // Overwrite replaces; order matters.
+  s.volumes = {box({0, 0, 0}, {1, 1, 1}, 0.3f, FogBlend::Overwrite), box({0, 0, 0}, {1, 1, 1}, 0.2f, FogBlend::Additive)};
+  FogMedium o(s);
+  o.set_camera({0, 0, 10});
+  CHECK(o.sample(inside).extinction == doctest::Approx(0.5f));
+}
+
+TEST_CASE("edge fade ramps the volume in from its faces") {
+  FogSceneSettings s;
+  FogVolume v = box({0, 0, 0}, {2, 2, 2}, 1.0f, FogBlend::Additive);
+  v.fade = 1.0f;
+  s.volumes = {v};
+  FogMedium m(s);
+  m.set_camera({0, 0, 0});
+  CHECK(m.sample({0, 0, 0}).extinction == doctest::Approx(1.0f));
+  CHECK(m.sample({1.5f, 0, 0}).extinction == doctest::Approx(0.5f));
+  CHECK(m.sample({0, -1.9f, 0}).extinction == doctest::Approx(0.1f));
+  CHECK(m.sample({2.1f, 0, 0}).extinction == 0.0f);
+}
+
+TEST_CASE("procedural noise modulates density within [1 - strength, 1]") {
+  FogSceneSettings s;
+  FogVolume v = box({0, 0, 0}, {10, 10, 10}, 1.0f, FogBlend::Additive);
+  v.noise.enabled = true;
+  v.noise.strength = 0.6f;
+  s.volumes = {v};
+  FogMedium m(s);
+  m.set_camera({0, 0, 0});
+  float lo = 1.0f, hi = 0.0f;
+  for (int i = 0; i < 500; ++i) {
+    const float e = m.sample(glm::vec3(float(i % 17) * 0.53f - 4.0f, float(i % 7) - 3.0f, float(i) * 0.017f - 4.0f)).extinction;
+    lo = std::min(lo, e);
+    hi = std::max(hi, e);
+  }
+  CHECK(lo >= 0.4f);
+  CHECK(hi <= 1.0f);
+  CHECK(hi - lo > 0.2f);  // it does vary
+}
+
+TEST_CASE("volumes outside the view cost nothing and only overlapped froxels change") {
+  JobSystem jobs(2);
+  const int w = 64, h = 48;
+  const Camera cam = camera_at({0, 2, 0}, {0, 2, -10}, w, h);
+  FogProfileSettings p;
+  p.slices = 32;
+  const FroxelGrid grid(w, h, p.froxel_size_px, p.slices, cam.znear, p.fog_distance, p.slice_uniformity);
+  const FroxelView view = make_froxel_view(grid, cam, jobs);
+
+  FogSceneSettings base = uniform_fog(0.02f, glm::vec3(1.0f));
+  FogSceneSettings hidden = base;
+  hidden.volumes = {box({0, 2, 30}, {3, 3, 3}, 1.0f, FogBlend::Additive),      // behind the camera
+                    box({200, 2, -20}, {3, 3, 3}, 1.0f, FogBlend::Additive),   // far to the side
+                    box({0, 2, -500}, {3, 3, 3}, 1.0f, FogBlend::Additive)};   // beyond the fog range
+  FogMedium m0(base), m1(hidden);
+  m0.set_camera(cam.position);
+  m1.set_camera(cam.position);
+  std::vector<FogDensity> d0, d1;
+  voxelize_density(view, m0, jobs, d0);
+  const VoxelizeStats st = voxelize_density(view, m1, jobs, d1);
+  CHECK(st.visible_volumes == 0);
+  CHECK(st.volume_froxels == 0);
+  for (size_t i = 0; i < d0.size(); ++i) CHECK(d0[i].extinction == d1[i].extinction);
+
+  FogSceneSettings one = base;
+  one.volumes = {box({3, 2, -12}, {1.5f, 1.5f, 1.5f}, 1.0f, FogBlend::Additive)};
+  FogMedium m2(one);
+  m2.set_camera(cam.position);
+  std::vector<FogDensity> d2;
+  const VoxelizeStats s2 = voxelize_density(view, m2, jobs, d2);
+  REQUIRE(s2.visible_volumes == 1);
+  CHECK(s2.volume_froxels < grid.count() / 20);  // a small box touches a small footprint
+  const VolumeFootprint f = volume_footprints(view, m2)[0];
+  size_t changed = 0;
+  for (int y = 0; y < grid.ny(); ++y)
+    for (int x = 0; x < grid.nx(); ++x)
+      for (int k = 0; k < grid.nz(); ++k) {
+        const size_t i = grid.index(x, y, k);
+        if (d2[i].extinction == d0[i].extinction) continue;
+        ++changed;
+        CHECK((x >= f.x0 && x <= f.x1 && y >= f.y0 && y <= f.y1 && k >= f.k0 && k <= f.k1));
+        // The changed froxel's centre is inside the box.
+        const glm::vec3 c = view.directions[size_t(y) * grid.nx() + x] * grid.center(k) + glm::vec3(cam.position);
+        CHECK(std::abs(c.x - 3.0f) <= 1.5f);
+        CHECK(std::abs(c.z + 12.0f) <= 1.5f);
+      }
+  CHECK(changed > 0);
+}
+
+TEST_CASE("volume shadow lookup agrees with ShadowMap::visibility without PCF") {
+  const Camera cam = camera_at({0, 2, 20}, {0, 2, 0}, 64, 48);
+  const glm::vec3 sun(0.7f, 0.5f, 0.1f);
+  ShadowMap m = wall_shadow(cam, sun);
+  m.pcf_radius = 0;
+  const VolumeShadow vs(m, cam.position);
+  int lit = 0, shadowed = 0;
+  for (int i = 0; i < 400; ++i) {
+    const glm::vec3 dir = glm::normalize(glm::vec3(float(i % 20) * 0.05f - 0.5f, float(i / 20) * 0.02f - 0.2f, -1.0f));
+    const VolumeShadow::Ray r = vs.ray(glm::vec3(0.0f), dir);
+    for (float t : {5.0f, 12.0f, 19.0f, 23.0f, 30.0f, 45.0f}) {
+      const float a = vs.visibility(r, t);
+      const float b = m.visibility(glm::vec3(cam.position) + dir * t, glm::vec3(0.0f));
+      CHECK(a == doctest::Approx(b).epsilon(1e-3));
+      lit += a > 0.99f;
+      shadowed += a < 0.01f;
+    }
+  }
+  CHECK(lit > 100);
+  CHECK(shadowed > 100);
+}

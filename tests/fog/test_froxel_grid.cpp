@@ -1,0 +1,73 @@
+#include <doctest/doctest.h>
+
+#include <cmath>
+
+#include "fog/froxel_grid.h"
+#include "fog/jitter_sequence.h"
+
+using namespace cr;
+
+TEST_CASE("log slice encoding round-trips and spans [near, far]") {
+  for (float u : {0.0f, 0.25f, 0.75f, 1.0f}) {
+    const FroxelGrid g(1280, 720, 8, 64, 0.1f, 64.0f, u);
+    CHECK(g.nx() == 160);
+    CHECK(g.ny() == 90);
+    CHECK(g.boundary(0) == doctest::Approx(0.1f));
+    CHECK(g.boundary(64) == doctest::Approx(64.1f));
+    for (int k = 0; k < 64; ++k) {
+      CHECK(g.thickness(k) > 0.0f);
+      CHECK(g.center(k) > g.boundary(k));
+      CHECK(g.center(k) < g.boundary(k + 1));
+    }
+    for (float d = 0.1f; d <= 64.1f; d *= 1.37f) {
+      const float e = g.encode(d);
+      CHECK(e >= 0.0f);
+      CHECK(e <= 1.0f);
+      CHECK(g.decode(e) == doctest::Approx(d).epsilon(1e-5));
+    }
+    for (int k = 0; k <= 64; ++k) CHECK(g.slice_coord(g.boundary(k)) == doctest::Approx(float(k)).epsilon(1e-4));
+  }
+}
+
+TEST_CASE("slice uniformity: 1 is linear, 0 concentrates slices near the camera") {
+  const FroxelGrid linear(64, 64, 8, 32, 0.5f, 32.0f, 1.0f);
+  // c = 0.001 is linear to within 1.6% of a slice over 32 m.
+  for (int k = 0; k < 32; ++k) CHECK(linear.thickness(k) == doctest::Approx(1.0f).epsilon(0.02));
+  const FroxelGrid log(64, 64, 8, 32, 0.5f, 32.0f, 0.0f);
+  CHECK(log.thickness(0) < 0.2f);
+  CHECK(log.thickness(31) > 3.0f);
+  // HDRP default 0.75 lies between.
+  const FroxelGrid hdrp(64, 64, 8, 32, 0.5f, 32.0f, 0.75f);
+  CHECK(hdrp.thickness(0) > log.thickness(0));
+  CHECK(hdrp.thickness(0) < linear.thickness(0));
+}
+
+TEST_CASE("distances outside the grid clamp to its ends") {
+  const FroxelGrid g(100, 50, 8, 16, 0.1f, 10.0f, 0.75f);
+  CHECK(g.nx() == 13);
+  CHECK(g.ny() == 7);
+  CHECK(g.encode(0.0f) == 0.0f);
+  CHECK(g.encode(1e9f) == 1.0f);
+  CHECK(g.encode(INFINITY) == 1.0f);
+}
+
+TEST_CASE("the 7-frame jitter sequence: HDRP depth offsets and a hexagon inside the froxel") {
+  const float expected[7] = {7, 3, 11, 5, 9, 1, 13};
+  float sum_x = 0, sum_y = 0;
+  for (int i = 0; i < 7; ++i) {
+    const FroxelJitter j = froxel_jitter(i);
+    CHECK(j.depth == doctest::Approx(expected[i] / 14.0f));
+    CHECK(std::abs(j.lateral.x) < 0.5f);
+    CHECK(std::abs(j.lateral.y) < 0.5f);
+    sum_x += j.lateral.x;
+    sum_y += j.lateral.y;
+    CHECK(froxel_jitter(i + 7).depth == j.depth);
+  }
+  CHECK(std::abs(sum_x) < 1e-5f);  // centred pattern: no bias
+  CHECK(std::abs(sum_y) < 1e-5f);
+  for (int x = 0; x < 50; ++x) {
+    const float h = column_hash(x, 3);
+    CHECK(h >= 0.0f);
+    CHECK(h < 1.0f);
+  }
+}

@@ -1,0 +1,132 @@
+// Scene files: every form of camera and sun, plugin sections, strictness.
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <doctest/doctest.h>
+
+#include "engine/core/error.h"
+#include "engine/scene/scene_description.h"
+#include "tests/scene/gltf_test_builder.h"
+
+namespace {
+
+const std::string kBad = std::string(CR_TEST_DATA_DIR) + "/bad";
+const std::vector<std::string> kPlugins = {"atmosphere", "fog"};
+
+// Writes a scene file next to a valid glTF path ("box.gltf" in the same directory).
+std::string write_scene(const std::string& name, nlohmann::json doc) {
+  std::string dir = cr::test::test_output_dir();
+  std::ofstream(dir + "/scene_box.gltf") << R"({"asset": {"version": "2.0"}})";
+  std::string path = dir + "/" + name;
+  std::ofstream(path) << doc.dump(1);
+  return path;
+}
+
+std::string error_of(const std::string& path) {
+  try {
+    cr::load_scene_description(path, kPlugins);
+  } catch (const cr::InputError& e) {
+    CHECK(e.file() == path);
+    return e.what();
+  }
+  FAIL("expected InputError for " << path);
+  return "";
+}
+
+}  // namespace
+
+TEST_CASE("a bare glTF path is a scene: camera and sun from the glTF") {
+  const std::string gltf = std::string(CR_ASSIMP_GLTF_DIR) + "/BoxTextured-glTF/BoxTextured.gltf";
+  if (!std::filesystem::exists(gltf)) return;
+  cr::SceneDescription d = cr::load_scene_description(gltf, kPlugins);
+  CHECK(d.gltf_path == gltf);
+  CHECK(d.path == gltf);
+  CHECK(d.camera.keys.empty());
+  CHECK_FALSE(d.camera.gltf_camera.has_value());
+  CHECK(d.sun.from_gltf);
+  CHECK(d.plugins.empty());
+  CHECK_THROWS_AS(cr::load_scene_description(kBad + "/does_not_exist.glb", kPlugins), cr::InputError);
+}
+
+TEST_CASE("scene file with a static camera, a fixed sun and plugin sections") {
+  std::string path = write_scene("static.json", {
+      {"gltf", "scene_box.gltf"},
+      {"camera", {{"position", {1, 2, 3}}, {"target", {0, 1, 0}}, {"vfov_deg", 45}, {"znear", 0.5}}},
+      {"sun", {{"azimuth_deg", 30}, {"elevation_deg", -5}, {"illuminance", 90000}, {"color", {1.0, 0.9, 0.8}}}},
+      {"exposure_ev100", 12.5},
+      {"ambient", {0.1, 0.2, 0.3}},
+      {"frames", 24},
+      {"atmosphere", {{"anything", "the plugin validates this"}}},
+  });
+  cr::SceneDescription d = cr::load_scene_description(path, kPlugins);
+  CHECK(std::filesystem::equivalent(d.gltf_path, cr::test::test_output_dir() + "/scene_box.gltf"));
+  REQUIRE(d.camera.keys.size() == 1);
+  CHECK(d.camera.keys[0].frame == 0);
+  CHECK(d.camera.keys[0].position == glm::dvec3(1, 2, 3));
+  CHECK(d.camera.keys[0].target == glm::dvec3(0, 1, 0));
+  CHECK(d.camera.keys[0].vfov_deg == 45.0f);
+  CHECK(d.camera.znear == 0.5f);
+  REQUIRE(d.sun.keys.size() == 1);
+  CHECK(d.sun.keys[0].azimuth_deg == 30.0f);
+  CHECK(d.sun.keys[0].elevation_deg == -5.0f);
+  CHECK_FALSE(d.sun.from_gltf);
+  CHECK(d.sun.illuminance == 90000.0f);
+  CHECK(d.sun.color == glm::vec3(1.0f, 0.9f, 0.8f));
+  CHECK(d.exposure_ev100 == 12.5f);
+  CHECK(d.ambient == glm::vec3(0.1f, 0.2f, 0.3f));
+  CHECK(d.frames == 24);
+  CHECK(d.plugins.contains("atmosphere"));
+  CHECK(d.plugins["atmosphere"]["anything"] == "the plugin validates this");
+  CHECK_FALSE(d.plugins.contains("fog"));
+}
+
+TEST_CASE("scene file with camera and sun keys, and with a glTF camera and sun") {
+  std::string keyed = write_scene("keyed.json", {
+      {"gltf", "scene_box.gltf"},
+      {"camera", {{"keys", {{{"frame", 0}, {"position", {0, 0, 5}}, {"target", {0, 0, 0}}},
+                            {{"frame", 10}, {"position", {5, 0, 0}}, {"target", {0, 0, 0}}, {"cut", true}, {"vfov_deg", 30}}}}}},
+      {"sun", {{"keys", {{{"frame", 0}, {"azimuth_deg", 0}, {"elevation_deg", 10}},
+                         {{"frame", 5}, {"azimuth_deg", 90}, {"elevation_deg", 60}}}}}},
+  });
+  cr::SceneDescription d = cr::load_scene_description(keyed, kPlugins);
+  REQUIRE(d.camera.keys.size() == 2);
+  CHECK(d.camera.keys[1].frame == 10);
+  CHECK(d.camera.keys[1].cut);
+  CHECK_FALSE(d.camera.keys[0].cut);
+  CHECK(d.camera.keys[0].vfov_deg == 60.0f);  // default
+  REQUIRE(d.sun.keys.size() == 2);
+  CHECK(d.sun.keys[1].elevation_deg == 60.0f);
+
+  std::string from_gltf = write_scene("from_gltf.json", {
+      {"gltf", "scene_box.gltf"}, {"camera", {{"gltf_camera", 2}}}, {"sun", {{"from_gltf", true}, {"illuminance", 5}}}});
+  cr::SceneDescription g = cr::load_scene_description(from_gltf, kPlugins);
+  CHECK(g.camera.gltf_camera == 2);
+  CHECK(g.sun.from_gltf);
+  CHECK(g.sun.illuminance == 5.0f);
+}
+
+TEST_CASE("scene file errors name the file and the field") {
+  CHECK(error_of(kBad + "/scene_unknown_key.json").find("unknown key 'sunn'") != std::string::npos);
+  CHECK(error_of(kBad + "/scene_bad_vfov.json").find("camera.vfov_deg") != std::string::npos);
+  CHECK(error_of(kBad + "/scene_keys_not_increasing.json").find("camera.keys[1].frame") != std::string::npos);
+  CHECK(error_of(kBad + "/scene_missing_gltf.json").find("'gltf'") != std::string::npos);
+  CHECK(error_of(kBad + "/scene_bad_elevation.json").find("sun.elevation_deg") != std::string::npos);
+  CHECK(error_of(kBad + "/scene_malformed.json").find("line 3") != std::string::npos);
+
+  CHECK(error_of(write_scene("no_gltf.json", {{"frames", 2}})).find("'gltf' is required") != std::string::npos);
+  CHECK(error_of(write_scene("nested_unknown.json", {{"gltf", "scene_box.gltf"},
+                                                     {"camera", {{"position", {0, 0, 1}}, {"target", {0, 0, 0}}, {"fov", 3}}}}))
+            .find("'camera.fov'") != std::string::npos);
+  CHECK(error_of(write_scene("zero_frames.json", {{"gltf", "scene_box.gltf"}, {"frames", 0}})).find("'frames'") !=
+        std::string::npos);
+  CHECK(error_of(write_scene("znear.json", {{"gltf", "scene_box.gltf"},
+                                            {"camera", {{"position", {0, 0, 1}}, {"target", {0, 0, 0}}, {"znear", 0}}}}))
+            .find("'camera.znear'") != std::string::npos);
+  CHECK(error_of(write_scene("same_pos_target.json", {{"gltf", "scene_box.gltf"},
+                                                      {"camera", {{"position", {0, 0, 0}}, {"target", {0, 0, 0}}}}}))
+            .find("'camera.target'") != std::string::npos);
+  CHECK(error_of(write_scene("bad_ambient.json", {{"gltf", "scene_box.gltf"}, {"ambient", {0, -1, 0}}})).find("'ambient'") !=
+        std::string::npos);
+  CHECK(error_of(write_scene("not_object.json", nlohmann::json::array({1, 2}))).find("JSON object") != std::string::npos);
+}

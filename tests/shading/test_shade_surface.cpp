@@ -1,0 +1,188 @@
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "engine/shading/brdf.h"
+#include "engine/shading/material_eval.h"
+#include "engine/shading/sh_lighting.h"
+#include "engine/shading/shade_surface.h"
+
+using namespace cr;
+
+namespace {
+
+constexpr float kPi = 3.14159265358979f;
+
+// A 1x1 linear (or sRGB) image of one RGBA8 texel.
+Image texel_image(uint8_t r, uint8_t g, uint8_t b, uint8_t a, bool srgb = false) {
+  Image img;
+  img.srgb = srgb;
+  img.mips.push_back(MipLevel{1, 1, {r, g, b, a}});
+  return img;
+}
+
+Material white_dielectric(float roughness) {
+  Material m;
+  m.metallic_factor = 0.0f;
+  m.roughness_factor = roughness;
+  return m;
+}
+
+SurfaceSample flat_sample() {
+  SurfaceSample s;
+  s.position = {0, 0, 0};
+  s.normal = {0, 1, 0};
+  s.tangent = {1, 0, 0, 1};
+  return s;
+}
+
+bool finite(const glm::vec4& c) {
+  return std::isfinite(c.r) && std::isfinite(c.g) && std::isfinite(c.b) && std::isfinite(c.a);
+}
+
+}  // namespace
+
+TEST_CASE("shade: a white rough dielectric under uniform sky reflects the sky's radiance") {
+  Scene scene;
+  LightEnvironment light;
+  light.ambient_sh = sh_constant_radiance(glm::vec3(1000.0f));
+  const ShadingInputs in{&scene, &light, nullptr, glm::dvec3(0.0)};
+  for (float elevation : {90.0f, 45.0f, 10.0f}) {
+    const float e = glm::radians(elevation);
+    ShadingInputs view = in;
+    view.camera_position = glm::dvec3(std::cos(e), std::sin(e), 0.0) * 5.0;
+    // Diffuse gets what the specular lobe leaves: E/pi (1 - albedo) + L albedo = L.
+    const glm::vec4 c = shade_surface(view, white_dielectric(1.0f), flat_sample());
+    CHECK(c.r == doctest::Approx(1000.0f).epsilon(1e-4));
+    CHECK(c.a == 1.0f);
+  }
+}
+
+TEST_CASE("shade: sun term is BRDF * n.l * E, scaled by shadow visibility") {
+  Scene scene;
+  LightEnvironment light;
+  light.sun_direction = glm::normalize(glm::vec3(1, 2, 0));
+  light.sun_illuminance = glm::vec3(1e5f, 9e4f, 8e4f);
+  const ShadingInputs in{&scene, &light, nullptr, glm::dvec3(-1.0, 3.0, 0.5)};
+  Material m;
+  m.base_color_factor = glm::vec4(0.8f, 0.4f, 0.2f, 1.0f);
+  m.metallic_factor = 0.3f;
+  m.roughness_factor = 0.4f;
+  const SurfaceSample s = flat_sample();
+  const glm::vec3 v = glm::normalize(glm::vec3(-1, 3, 0.5f));
+  const glm::vec3 expected = evaluate_brdf({glm::vec3(m.base_color_factor), 0.3f, 0.4f}, s.normal, v, light.sun_direction) *
+                             glm::dot(s.normal, light.sun_direction) * light.sun_illuminance;
+  const glm::vec4 c = shade_surface(in, m, s);
+  for (int k = 0; k < 3; ++k) CHECK(c[k] == doctest::Approx(expected[k]).epsilon(1e-5));
+
+  // sun_at overrides the constant illuminance.
+  LightEnvironment attenuated = light;
+  attenuated.sun_at = [](const glm::vec3&) { return glm::vec3(5e4f, 4.5e4f, 4e4f); };
+  const glm::vec4 half = shade_surface({&scene, &attenuated, nullptr, in.camera_position}, m, s);
+  for (int k = 0; k < 3; ++k) CHECK(half[k] == doctest::Approx(0.5f * expected[k]).epsilon(1e-5));
+
+  // A shadow map that records an occluder over everything removes the sun.
+  ShadowMap shadow = fit_shadow_map(Camera::look_at({0, 2, 5}, {0, 0, 0}, 1.0f, 1.0f, 0.1f), light.sun_direction,
+                                    20.0f, 64, 1, glm::vec3(-10.0f), glm::vec3(10.0f));
+  std::fill(shadow.depth.begin(), shadow.depth.end(), 1.0f);
+  const glm::vec4 shadowed = shade_surface({&scene, &light, &shadow, in.camera_position}, m, s);
+  CHECK(shadowed.r == 0.0f);
+  // An empty one (size 0) leaves it lit.
+  const ShadowMap none;
+  CHECK(shade_surface({&scene, &light, &none, in.camera_position}, m, s).r == doctest::Approx(c.r));
+}
+
+TEST_CASE("shade: occlusion darkens only the ambient term; emission adds kEmissiveNits per unit") {
+  Scene scene;
+  scene.images.push_back(texel_image(0, 0, 0, 255));  // occlusion 0
+  LightEnvironment light;
+  light.ambient_sh = sh_constant_radiance(glm::vec3(100.0f));
+  light.sun_direction = {0, 1, 0};
+  light.sun_illuminance = glm::vec3(1000.0f);
+  const ShadingInputs in{&scene, &light, nullptr, glm::dvec3(0.0, 2.0, 0.0)};
+  Material m = white_dielectric(0.8f);
+  const glm::vec4 open = shade_surface(in, m, flat_sample());
+  m.occlusion.image = 0;
+  m.occlusion.scale = 1.0f;
+  const glm::vec4 occluded = shade_surface(in, m, flat_sample());
+  LightEnvironment sun_only = light;
+  sun_only.ambient_sh = {};
+  const glm::vec4 direct = shade_surface({&scene, &sun_only, nullptr, in.camera_position}, white_dielectric(0.8f), flat_sample());
+  CHECK(occluded.r == doctest::Approx(direct.r));
+  CHECK(open.r > direct.r + 50.0f);
+  // Half strength: halfway.
+  m.occlusion.scale = 0.5f;
+  CHECK(shade_surface(in, m, flat_sample()).r == doctest::Approx(0.5f * (open.r + direct.r)));
+
+  LightEnvironment dark;
+  Material glow = white_dielectric(1.0f);
+  glow.base_color_factor = glm::vec4(0, 0, 0, 1);
+  glow.emissive_factor = {1.0f, 0.5f, 0.0f};
+  const glm::vec4 e = shade_surface({&scene, &dark, nullptr, in.camera_position}, glow, flat_sample());
+  CHECK(e.r == doctest::Approx(kEmissiveNits));
+  CHECK(e.g == doctest::Approx(0.5f * kEmissiveNits));
+  CHECK(e.b == 0.0f);
+}
+
+TEST_CASE("shade: textures, vertex colour and alpha") {
+  Scene scene;
+  scene.images.push_back(texel_image(255, 128, 0, 128, true));   // base colour (sRGB)
+  scene.images.push_back(texel_image(0, 64, 255, 255));          // metallic-roughness: G rough, B metal
+  scene.images.push_back(texel_image(128, 128, 255, 255));       // flat normal map
+  Material m;
+  m.base_color_factor = glm::vec4(1.0f, 1.0f, 1.0f, 0.5f);
+  m.base_color.image = 0;
+  m.metallic_roughness.image = 1;
+  m.roughness_factor = 0.5f;
+  m.metallic_factor = 0.5f;
+  m.normal.image = 2;
+  SurfaceSample s = flat_sample();
+  s.color = glm::vec4(1.0f, 1.0f, 1.0f, 0.5f);
+
+  CHECK(material_alpha(scene, m, s) == doctest::Approx(0.5f * 128.0f / 255.0f * 0.5f));
+  const MaterialSample ms = evaluate_material(scene, m, s);
+  CHECK(ms.base_color.r == doctest::Approx(1.0f));
+  CHECK(ms.base_color.g == doctest::Approx(0.2158605f).epsilon(1e-4));  // sRGB 128 decoded
+  CHECK(ms.roughness == doctest::Approx(0.5f * 64.0f / 255.0f));
+  CHECK(ms.metallic == doctest::Approx(0.5f));
+  CHECK(glm::dot(ms.normal, s.normal) > 0.9999f);
+
+  // A tilted normal map bends the normal towards +tangent.
+  scene.images[2] = texel_image(255, 128, 128, 255);
+  m.normal.scale = 1.0f;
+  CHECK(evaluate_material(scene, m, s).normal.x > 0.7f);
+
+  LightEnvironment light;
+  light.ambient_sh = sh_constant_radiance(glm::vec3(1.0f));
+  m.alpha_mode = AlphaMode::Blend;
+  CHECK(shade_surface({&scene, &light, nullptr, glm::dvec3(0, 1, 0)}, m, s).a == doctest::Approx(material_alpha(scene, m, s)));
+  m.alpha_mode = AlphaMode::Mask;
+  CHECK(shade_surface({&scene, &light, nullptr, glm::dvec3(0, 1, 0)}, m, s).a == 1.0f);
+}
+
+TEST_CASE("shade: no NaN for degenerate normals, grazing views or a camera on the surface") {
+  Scene scene;
+  LightEnvironment light;
+  light.sun_direction = glm::normalize(glm::vec3(1, 1e-6f, 0));
+  light.sun_illuminance = glm::vec3(1e5f);
+  light.ambient_sh = sh_constant_radiance(glm::vec3(3000.0f));
+  light.ambient_sh[3] = glm::vec3(-5000.0f);  // ringing: negative radiance in places
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  for (const glm::vec3& normal : {glm::vec3(0.0f), glm::vec3(0, 1, 0), glm::vec3(0, -1, 0), glm::vec3(nan)}) {
+    for (const glm::dvec3& camera : {glm::dvec3(0.0), glm::dvec3(1, 1e-7, 0), glm::dvec3(-1, 0, 0), glm::dvec3(0, -3, 0)}) {
+      for (float roughness : {0.0f, 0.5f, 1.0f, nan}) {
+        for (float metallic : {0.0f, 1.0f}) {
+          SurfaceSample s = flat_sample();
+          s.normal = normal;
+          Material m;
+          m.roughness_factor = roughness;
+          m.metallic_factor = metallic;
+          const glm::vec4 c = shade_surface({&scene, &light, nullptr, camera}, m, s);
+          CHECK(finite(c));
+          CHECK(c.r >= 0.0f);
+        }
+      }
+    }
+  }
+}
