@@ -2,16 +2,17 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "engine/core/error.h"
 #include "engine/raster/blend_order.h"
 #include "engine/raster/tiled_rasterizer.h"
+#include "engine/render/display_transform.h"
 #include "engine/render/frame_view.h"
 #include "engine/shading/material_eval.h"
 #include "engine/shading/sh_lighting.h"
 #include "engine/shading/shade_surface.h"
 #include "engine/shading/surface.h"
-#include "engine/shading/tonemap.h"
 
 namespace cr {
 
@@ -48,6 +49,31 @@ bool aabb_in_view(const Camera& cam, const glm::vec3& lo, const glm::vec3& hi) {
   return true;
 }
 
+// Whether a world AABB overlaps the clip volume of an orthographic projection
+// (x, y in [-1, 1]; z below 0 is beyond the map's depth range).
+bool aabb_in_ortho(const glm::mat4& view_proj, const glm::dvec3& origin, const glm::vec3& lo, const glm::vec3& hi) {
+  glm::vec3 cmin(std::numeric_limits<float>::max()), cmax(-std::numeric_limits<float>::max());
+  for (int i = 0; i < 8; ++i) {
+    const glm::dvec3 corner((i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z);
+    const glm::vec3 c(view_proj * glm::vec4(glm::vec3(corner - origin), 1.0f));
+    cmin = glm::min(cmin, c);
+    cmax = glm::max(cmax, c);
+  }
+  return cmax.x >= -1.0f && cmin.x <= 1.0f && cmax.y >= -1.0f && cmin.y <= 1.0f && cmax.z >= 0.0f;
+}
+
+// Alpha-MASK coverage of a rasterizer's triangles: base-colour alpha >= cutoff.
+CoverageFn alpha_coverage(const Scene& scene, const TiledRasterizer& raster) {
+  return [&scene, &raster](uint32_t id, const Barycentrics& bary) {
+    const TriangleRef r = raster.ref(id);
+    const Draw& d = scene.draws[r.draw_index];
+    const Primitive& prim = scene.primitive(d);
+    const Material& m = material_of(scene, prim);
+    return material_alpha(scene, m, interpolate_surface(prim, d, r.triangle_index, bary, r.front_facing)) >=
+           m.alpha_cutoff;
+  };
+}
+
 }  // namespace
 
 struct Renderer::Geometry {
@@ -56,12 +82,17 @@ struct Renderer::Geometry {
   std::vector<RasterDraw> opaque, blended, casters;
   RasterStats stats;
   uint64_t pixels_shaded = 0;
+  bool shadow_reused = false;  // the shadow projection did not move: last map kept
 };
 
 Renderer::Renderer(const Scene& scene, const SceneDescription& description, const Profile& profile,
                    std::vector<std::unique_ptr<Plugin>> plugins, JobSystem& jobs)
     : scene_(scene), description_(description), profile_(profile), jobs_(jobs),
       geometry_(std::make_unique<Geometry>()) {
+  if (description.camera.gltf_camera && *description.camera.gltf_camera >= int(scene.cameras.size()))
+    throw InputError(description.path, "camera.gltf_camera is " + std::to_string(*description.camera.gltf_camera) +
+                                           " but '" + scene.source + "' has " + std::to_string(scene.cameras.size()) +
+                                           " perspective camera(s)");
   for (auto& p : plugins)
     if (p->configure(scene, description, profile)) plugins_.push_back(std::move(p));
   std::stable_sort(plugins_.begin(), plugins_.end(),
@@ -109,25 +140,32 @@ const FrameRecord& Renderer::render_frame(int frame) {
   const bool shadows = profile_.shadow_map_size > 0 && sun_up;
   if (shadows)
     graph.add_pass("shadow", [](FrameGraph::Builder& b) { b.write("shadow_map"); }, [this, &geo, &view] {
-      shadow_ = fit_shadow_map(view.camera, view.sun_direction, profile_.shadow_distance, profile_.shadow_map_size,
-                               profile_.shadow_pcf_radius, scene_.bounds_min, scene_.bounds_max);
+      ShadowMap fit = fit_shadow_map(view.camera, view.sun_direction, profile_.shadow_distance,
+                                     profile_.shadow_map_size, profile_.shadow_pcf_radius, scene_.bounds_min,
+                                     scene_.bounds_max);
+      // The scene is static: when the texel-snapped projection has not moved,
+      // last frame's map is exactly what a new render would produce.
+      const bool unchanged = fit.size == shadow_.size && fit.light_view_proj == shadow_.light_view_proj &&
+                             fit.origin == shadow_.origin && fit.direction_to_sun == shadow_.direction_to_sun;
+      if (unchanged) {
+        fit.depth.swap(shadow_.depth);
+        shadow_ = std::move(fit);
+        geo.shadow_reused = true;
+        return;
+      }
+      shadow_ = std::move(fit);
+      geo.shadow_reused = false;
       geo.casters.clear();
       for (uint32_t i = 0; i < scene_.draws.size(); ++i) {
         const Draw& d = scene_.draws[i];
         const Material& m = material_of(scene_, scene_.primitive(d));
         if (m.alpha_mode == AlphaMode::Blend) continue;  // translucent surfaces cast no shadow
+        if (!aabb_in_ortho(shadow_.light_view_proj, shadow_.origin, d.world_bounds_min, d.world_bounds_max)) continue;
         geo.casters.push_back({&scene_.primitive(d), model_to_clip(shadow_.light_view_proj, shadow_.origin, d.world),
                                true, d.mirrored, m.alpha_mode == AlphaMode::Mask, i});
       }
-      const CoverageFn coverage = [this, &geo](uint32_t id, const Barycentrics& bary) {
-        const TriangleRef r = geo.shadow.ref(id);
-        const Draw& d = scene_.draws[r.draw_index];
-        const Primitive& prim = scene_.primitive(d);
-        const Material& m = material_of(scene_, prim);
-        return material_alpha(scene_, m, interpolate_surface(prim, d, r.triangle_index, bary, r.front_facing)) >=
-               m.alpha_cutoff;
-      };
-      geo.shadow.render_depth(jobs_, shadow_.size, profile_.tile_size, geo.casters, shadow_.depth, coverage);
+      geo.shadow.render_depth(jobs_, shadow_.size, profile_.tile_size, geo.casters, shadow_.depth,
+                              alpha_coverage(scene_, geo.shadow));
     });
   else
     shadow_ = ShadowMap{};
@@ -158,15 +196,7 @@ const FrameRecord& Renderer::render_frame(int frame) {
 
   graph.add_pass("geometry", [](FrameGraph::Builder& b) { b.write("visibility").write("depth"); },
                  [this, &geo, w, h, tile] {
-    const CoverageFn coverage = [this, &geo](uint32_t id, const Barycentrics& bary) {
-      const TriangleRef r = geo.view.ref(id);
-      const Draw& d = scene_.draws[r.draw_index];
-      const Primitive& prim = scene_.primitive(d);
-      const Material& m = material_of(scene_, prim);
-      return material_alpha(scene_, m, interpolate_surface(prim, d, r.triangle_index, bary, r.front_facing)) >=
-             m.alpha_cutoff;
-    };
-    geo.stats = geo.view.render_visibility(jobs_, w, h, tile, geo.opaque, coverage);
+    geo.stats = geo.view.render_visibility(jobs_, w, h, tile, geo.opaque, alpha_coverage(scene_, geo.view));
   });
 
   // Plugins declare their passes after the engine's inputs exist, so their
@@ -248,10 +278,10 @@ const FrameRecord& Renderer::render_frame(int frame) {
     });
 
   graph.add_pass("resolve", [](FrameGraph::Builder& b) { b.read("hdr_color").write("frame"); }, [this, w, h] {
-    const float ev100 = description_.exposure_ev100;
+    if (!display_ || display_->ev100() != description_.exposure_ev100)
+      display_ = std::make_unique<DisplayTransform>(description_.exposure_ev100);
     jobs_.parallel_for("resolve", size_t(h), 16, [&](size_t y0, size_t y1) {
-      resolve_to_srgb8(&buffers_.color[y0 * size_t(w)], (y1 - y0) * size_t(w), ev100,
-                       &buffers_.display[y0 * size_t(w) * 3]);
+      display_->resolve(&buffers_.color[y0 * size_t(w)], (y1 - y0) * size_t(w), &buffers_.display[y0 * size_t(w) * 3]);
     });
   });
   graph.mark_output("frame");
@@ -270,7 +300,8 @@ const FrameRecord& Renderer::render_frame(int frame) {
   record_.raster = {{"triangles_in", st.triangles_in},       {"triangles_culled", st.triangles_culled},
                     {"triangles_clipped", st.triangles_clipped}, {"triangles_visible", st.triangles_visible},
                     {"tile_triangle_pairs", st.tile_triangle_pairs}, {"pixels_covered", st.pixels_covered},
-                    {"pixels_shaded", geo.pixels_shaded},    {"draws_in_view", geo.opaque.size() + geo.blended.size()}};
+                    {"pixels_shaded", geo.pixels_shaded},    {"draws_in_view", geo.opaque.size() + geo.blended.size()},
+                    {"shadow_casters", geo.casters.size()}, {"shadow_map_reused", geo.shadow_reused}};
   for (auto& p : plugins_) p->report_frame(record_.plugins[p->name()]);
   return record_;
 }

@@ -21,6 +21,8 @@
 
 namespace cr {
 
+class DisplayTransform;
+
 // Timing of one rendered frame.
 struct FrameRecord {
   int frame = 0;
@@ -62,6 +64,7 @@ class Renderer {
   ShadowMap shadow_;
   LightEnvironment light_;
   std::unique_ptr<Geometry> geometry_;
+  std::unique_ptr<DisplayTransform> display_;  // built once per exposure
   FrameRecord record_;
   int last_frame_ = -1;
   Camera last_camera_;

@@ -200,7 +200,7 @@ GltfMaterials load_materials(const GltfContext& ctx, const ImageDecodeLog& decod
     std::string list = join(textures.missing(), ", ");
     if (!options.allow_missing_images) {
       ctx.fail(std::to_string(textures.missing().size()) + " image file(s) missing: " + list +
-               " (load with allow_missing_images to render with the material factors instead)");
+               " (pass --allow-missing-images to render with the material factors instead)");
     }
     ctx.warn(std::to_string(textures.missing().size()) + " image file(s) missing, textures using them are dropped "
              "and their materials use their factors: " + list);

@@ -1,0 +1,59 @@
+#include "engine/render/display_transform.h"
+
+#include <bit>
+#include <cmath>
+#include <limits>
+
+#include "engine/shading/srgb.h"
+#include "engine/shading/tonemap.h"
+
+namespace cr {
+
+namespace {
+
+// The reference definition: one channel of resolve_pixel for an exposed value.
+uint8_t code_of_exposed(float e) { return quantize_unorm8(linear_to_srgb(tonemap_aces(e))); }
+
+constexpr int kBucketShift = 15;  // 2^(31-15) = 65536 buckets over non-negative float bit patterns
+
+}  // namespace
+
+DisplayTransform::DisplayTransform(float ev100) : ev100_(ev100), exposure_(exposure_scale(ev100)) {
+  // Thresholds by bisection over the ordered bit patterns of non-negative floats.
+  threshold_.fill(std::numeric_limits<float>::infinity());
+  threshold_[0] = 0.0f;
+  const uint32_t top = std::bit_cast<uint32_t>(std::numeric_limits<float>::max());
+  for (int k = 1; k <= 255; ++k) {
+    uint32_t lo = 0, hi = top;  // invariant: code(lo) < k <= code(hi) (if any value reaches k)
+    if (code_of_exposed(std::bit_cast<float>(hi)) < k) continue;
+    while (hi - lo > 1) {
+      const uint32_t mid = lo + (hi - lo) / 2;
+      (code_of_exposed(std::bit_cast<float>(mid)) >= k ? hi : lo) = mid;
+    }
+    threshold_[k] = std::bit_cast<float>(hi);
+  }
+  threshold_[256] = std::numeric_limits<float>::infinity();
+  bucket_code_.resize(size_t(1) << (31 - kBucketShift));
+  for (size_t b = 0; b < bucket_code_.size(); ++b) {
+    const float start = std::bit_cast<float>(uint32_t(b << kBucketShift));
+    int code = 0;
+    while (code < 255 && !(start < threshold_[code + 1])) ++code;
+    bucket_code_[b] = uint8_t(code);
+  }
+}
+
+uint8_t DisplayTransform::encode(float radiance) const {
+  const float e = radiance * exposure_;
+  if (!(e > 0.0f)) return code_of_exposed(e);  // zero, negative and NaN
+  if (!(e < std::numeric_limits<float>::infinity())) return code_of_exposed(e);
+  int code = bucket_code_[std::bit_cast<uint32_t>(e) >> kBucketShift];
+  while (code < 255 && !(e < threshold_[code + 1])) ++code;
+  return uint8_t(code);
+}
+
+void DisplayTransform::resolve(const glm::vec3* hdr, size_t count, uint8_t* rgb_out) const {
+  for (size_t i = 0; i < count; ++i)
+    for (int c = 0; c < 3; ++c) rgb_out[3 * i + c] = encode(hdr[i][c]);
+}
+
+}  // namespace cr
