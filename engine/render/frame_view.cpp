@@ -81,7 +81,8 @@ FrameView make_frame_view(const Scene& scene, const SceneDescription& d, int fra
     v.sun_direction = scene.sun->direction_to_sun;
     v.sun_illuminance = scene.sun->color * sun.illuminance;
   } else {
-    v.sun_direction = sun_direction(135.0f, 45.0f);
+    // No sun anywhere: light from behind the default viewpoint's right shoulder.
+    v.sun_direction = sun_direction(30.0f, 50.0f);
     v.sun_illuminance = sun.color * sun.illuminance;
   }
   return v;

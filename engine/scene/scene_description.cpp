@@ -111,6 +111,10 @@ SceneDescription load_scene_description(const std::string& path,
     if (!fs::is_regular_file(path)) throw InputError(path, "glTF file not found");
     d.gltf_path = path;
     d.sun.from_gltf = true;
+    // A bare model gets a daylight fill so its shadowed side is readable at
+    // the default exposure (EV100 15: 39000 cd/m^2 is white): an overcast-sky
+    // radiance, slightly blue.
+    d.ambient = glm::vec3(7000.0f, 7500.0f, 8500.0f);
     return d;
   }
 
