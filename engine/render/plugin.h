@@ -36,8 +36,10 @@ struct FrameView {
 };
 
 // Everything a pass may touch during a frame. Resources produced by engine
-// passes: "shadow_map" (shadow), "light_environment" (light), "visibility",
-// "hdr_color" (color + depth + distance), "frame" (resolved image).
+// passes: "light_environment" (light), "shadow_map" (shadow), "visibility"
+// and "depth" (geometry: buffers.depth and buffers.distance are valid once a
+// pass that reads "depth" runs), "hdr_color" (shade: buffers.color), "frame"
+// (resolve: buffers.display).
 struct FrameContext {
   const Scene& scene;
   const SceneDescription& description;

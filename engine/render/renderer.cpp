@@ -195,8 +195,25 @@ const FrameRecord& Renderer::render_frame(int frame) {
   }
 
   graph.add_pass("geometry", [](FrameGraph::Builder& b) { b.write("visibility").write("depth"); },
-                 [this, &geo, w, h, tile] {
+                 [this, &geo, &cam, w, h, tile] {
     geo.stats = geo.view.render_visibility(jobs_, w, h, tile, geo.opaque, alpha_coverage(scene_, geo.view));
+    // Depth and distance along the ray, from the reversed-Z depth alone
+    // (view depth = znear / z), so passes that only need depth (fog) can run
+    // before shading.
+    const std::vector<float>& depth = geo.view.visibility().depth;
+    jobs_.parallel_for("depth", size_t(h), 8, [&](size_t y0, size_t y1) {
+      for (size_t y = y0; y < y1; ++y)
+        for (int x = 0; x < w; ++x) {
+          const size_t i = y * size_t(w) + size_t(x);
+          buffers_.depth[i] = depth[i];
+          if (depth[i] <= 0.0f) {
+            buffers_.distance[i] = std::numeric_limits<float>::infinity();
+            continue;
+          }
+          const glm::vec3 dir = cam.ray_direction(float(x) + 0.5f, float(y) + 0.5f, w, h);
+          buffers_.distance[i] = cam.znear / depth[i] / glm::dot(dir, cam.forward);
+        }
+    });
   });
 
   // Plugins declare their passes after the engine's inputs exist, so their
@@ -204,19 +221,17 @@ const FrameRecord& Renderer::render_frame(int frame) {
   for (auto& p : plugins_) p->add_passes(graph, ctx);
 
   const ShadingInputs shading{&scene_, &light_, &shadow_, cam.position};
-  auto shade_fragment = [this, &geo, &shading, &cam](uint32_t id, const Barycentrics& bary, glm::vec3* dist) {
+  auto shade_fragment = [this, &geo, &shading](uint32_t id, const Barycentrics& bary) {
     const TriangleRef r = geo.view.ref(id);
     const Draw& d = scene_.draws[r.draw_index];
     const Primitive& prim = scene_.primitive(d);
     const SurfaceSample s = interpolate_surface(prim, d, r.triangle_index, bary, r.front_facing);
-    if (dist) dist->x = float(glm::length(glm::dvec3(s.position) - cam.position));
     return shade_surface(shading, material_of(scene_, prim), s);
   };
 
   graph.add_pass("shade", [](FrameGraph::Builder& b) {
     b.read("visibility").read("shadow_map").read("light_environment").write("hdr_color");
   }, [this, &geo, &shade_fragment, w, h] {
-    const std::vector<float>& depth = geo.view.visibility().depth;
     const std::vector<uint32_t>& ids = geo.view.visibility().triangle;
     // Without a sky plugin the background is the ambient radiance: a flat sky.
     const glm::vec3 background = description_.ambient;
@@ -226,16 +241,12 @@ const FrameRecord& Renderer::render_frame(int frame) {
         uint64_t n = 0;
         for (int x = 0; x < w; ++x) {
           const size_t i = y * size_t(w) + size_t(x);
-          buffers_.depth[i] = depth[i];
           if (ids[i] == kNoTriangle) {
             buffers_.color[i] = background;
-            buffers_.distance[i] = std::numeric_limits<float>::infinity();
             continue;
           }
-          glm::vec3 dist(0.0f);
           const Barycentrics bary = geo.view.barycentrics(ids[i], float(x) + 0.5f, float(y) + 0.5f);
-          buffers_.color[i] = glm::vec3(shade_fragment(ids[i], bary, &dist));
-          buffers_.distance[i] = dist.x;
+          buffers_.color[i] = glm::vec3(shade_fragment(ids[i], bary));
           ++n;
         }
         shaded_rows[y] = n;
@@ -250,7 +261,7 @@ const FrameRecord& Renderer::render_frame(int frame) {
     graph.add_pass("transparent", [](FrameGraph::Builder& b) { b.read("hdr_color").write("hdr_color"); },
                  [this, &geo, &shade_fragment, w] {
     geo.view.render_blended(jobs_, geo.blended, [&](int x, int y, uint32_t id, const Barycentrics& bary) {
-      const glm::vec4 c = shade_fragment(id, bary, nullptr);
+      const glm::vec4 c = shade_fragment(id, bary);
       glm::vec3& dst = buffers_.color[size_t(y) * size_t(w) + size_t(x)];
       dst = dst * (1.0f - c.a) + glm::vec3(c) * c.a;
     });

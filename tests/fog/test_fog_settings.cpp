@@ -3,6 +3,7 @@
 #include <string>
 
 #include "engine/core/error.h"
+#include "fog/fog_plugin.h"
 #include "fog/fog_settings.h"
 
 using namespace cr;
@@ -101,4 +102,24 @@ TEST_CASE("zero-size volumes and an empty volume list are valid") {
       json::parse(R"({"volumes": [{"center": [0,0,0], "size": [0,0,0], "mean_free_path": 1}]})"), "s.json");
   CHECK(s.volumes.size() == 1);
   CHECK(parse_fog_scene(json::parse(R"({"volumes": []})"), "s.json").volumes.empty());
+}
+
+TEST_CASE("the plugin: no fog section means no passes; bad profile sections are reported anyway") {
+  FogPlugin plugin;
+  Scene scene;
+  SceneDescription d;
+  d.path = "s.json";
+  Profile p;
+  p.path = "p.json";
+  CHECK(plugin.name() == "fog");
+  CHECK_FALSE(plugin.configure(scene, d, p));
+  p.plugins["fog"] = json{{"slices", -1}};
+  CHECK(error_of([&] { plugin.configure(scene, d, p); }).find("'fog.slices'") != std::string::npos);
+  p.plugins["fog"] = json{{"slices", 16}};
+  d.plugins["fog"] = json::parse(R"({"height_fog": {"mean_free_path": 30}, "distance": 100})");
+  CHECK(plugin.configure(scene, d, p));
+  CHECK(plugin.fog()->profile().slices == 16);
+  CHECK(plugin.fog()->profile().fog_distance == 100.0f);  // the scene's distance wins
+  CHECK(plugin.composite_order() == 200);
+  CHECK(plugin.composite_reads() == std::vector<std::string>{"fog.volume"});
 }

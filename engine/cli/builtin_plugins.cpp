@@ -1,0 +1,12 @@
+// The plugins linked into cpurender. This file is the composition root: the
+// engine libraries never name a plugin.
+#include "engine/cli/commands.h"
+#include "fog/fog_plugin.h"
+
+namespace cr {
+
+void register_builtin_plugins(PluginRegistry& registry) {
+  register_fog_plugin(registry);
+}
+
+}  // namespace cr

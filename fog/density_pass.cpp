@@ -1,0 +1,108 @@
+// fog.density: voxelisation of the medium into the froxel grid (HDRP's
+// "clear + height fog" and "fog volume" passes in one). Each froxel takes the
+// density at its centre (log-space slice centre on the column's centre ray).
+#include <algorithm>
+#include <cmath>
+
+#include "fog/froxel_passes.h"
+
+namespace cr {
+
+FroxelView make_froxel_view(const FroxelGrid& grid, const Camera& camera, JobSystem& jobs) {
+  FroxelView v;
+  v.grid = grid;
+  v.camera = camera;
+  v.directions.resize(grid.columns());
+  const int nx = grid.nx();
+  jobs.parallel_for("fog.columns", size_t(grid.ny()), 8, [&](size_t begin, size_t end) {
+    for (size_t y = begin; y < end; ++y)
+      for (int x = 0; x < nx; ++x) v.directions[y * size_t(nx) + size_t(x)] = grid.column_direction(camera, x, int(y));
+  });
+  return v;
+}
+
+std::vector<VolumeFootprint> volume_footprints(const FroxelView& view, const FogMedium& medium) {
+  const FroxelGrid& g = view.grid;
+  const Camera& cam = view.camera;
+  const float tan_y = std::tan(0.5f * cam.vfov_rad);
+  const float tan_x = tan_y * cam.aspect;
+  const float s = float(g.froxel_size());
+  std::vector<VolumeFootprint> out;
+  const auto& volumes = medium.volumes();
+  for (size_t i = 0; i < volumes.size(); ++i) {
+    const PlacedFogVolume& v = volumes[i];
+    // Distance from the camera to the box (0 inside) and to its farthest corner.
+    const glm::vec3 local(glm::dot(-v.center, v.axes[0]), glm::dot(-v.center, v.axes[1]),
+                          glm::dot(-v.center, v.axes[2]));
+    const float d_min = glm::length(glm::max(glm::abs(local) - v.half_size, glm::vec3(0.0f)));
+    float d_max = 0.0f;
+    bool behind = false, all_behind = true;
+    float px_min = 1e30f, px_max = -1e30f, py_min = 1e30f, py_max = -1e30f;
+    for (int c = 0; c < 8; ++c) {
+      const glm::vec3 corner = v.center + v.axes[0] * ((c & 1) ? v.half_size.x : -v.half_size.x) +
+                               v.axes[1] * ((c & 2) ? v.half_size.y : -v.half_size.y) +
+                               v.axes[2] * ((c & 4) ? v.half_size.z : -v.half_size.z);
+      d_max = std::max(d_max, glm::length(corner));
+      const float z = glm::dot(corner, cam.forward);
+      if (z <= 1e-4f) {
+        behind = true;
+        continue;
+      }
+      all_behind = false;
+      const float px = (glm::dot(corner, cam.right) / (z * tan_x) * 0.5f + 0.5f) * float(g.width());
+      const float py = (0.5f - glm::dot(corner, cam.up) / (z * tan_y) * 0.5f) * float(g.height());
+      px_min = std::min(px_min, px);
+      px_max = std::max(px_max, px);
+      py_min = std::min(py_min, py);
+      py_max = std::max(py_max, py);
+    }
+    if (all_behind || d_min > g.far_distance() || d_max < g.near_distance()) continue;
+    VolumeFootprint f;
+    f.volume = int(i);
+    if (behind) {
+      // A corner behind the camera: the projection is unbounded, take the screen.
+      f.x0 = 0, f.y0 = 0, f.x1 = g.nx() - 1, f.y1 = g.ny() - 1;
+    } else {
+      if (px_max < 0.0f || py_max < 0.0f || px_min > float(g.nx()) * s || py_min > float(g.ny()) * s) continue;
+      f.x0 = std::clamp(int(std::floor(px_min / s)), 0, g.nx() - 1);
+      f.x1 = std::clamp(int(std::floor(px_max / s)), 0, g.nx() - 1);
+      f.y0 = std::clamp(int(std::floor(py_min / s)), 0, g.ny() - 1);
+      f.y1 = std::clamp(int(std::floor(py_max / s)), 0, g.ny() - 1);
+    }
+    f.k0 = std::clamp(int(std::floor(g.slice_coord(d_min))), 0, g.nz() - 1);
+    f.k1 = std::clamp(int(std::floor(g.slice_coord(d_max))), 0, g.nz() - 1);
+    out.push_back(f);
+  }
+  return out;
+}
+
+VoxelizeStats voxelize_density(const FroxelView& view, const FogMedium& medium, JobSystem& jobs,
+                               std::vector<FogDensity>& density) {
+  const FroxelGrid& g = view.grid;
+  density.resize(g.count());
+  const std::vector<VolumeFootprint> footprints = volume_footprints(view, medium);
+  const int nx = g.nx(), nz = g.nz();
+  std::vector<float> centers(static_cast<size_t>(nz));
+  for (int k = 0; k < nz; ++k) centers[size_t(k)] = g.center(k);
+  jobs.parallel_for("fog.density", size_t(g.ny()), 1, [&](size_t begin, size_t end) {
+    for (int y = int(begin); y < int(end); ++y)
+      for (int x = 0; x < nx; ++x) {
+        const glm::vec3 dir = view.directions[size_t(y) * nx + x];
+        FogDensity* column = density.data() + g.index(x, y, 0);
+        for (int k = 0; k < nz; ++k) column[k] = medium.height_fog(dir * centers[size_t(k)]);
+        // Volumes in file order: the blend result does not depend on scheduling.
+        for (const VolumeFootprint& f : footprints) {
+          if (x < f.x0 || x > f.x1 || y < f.y0 || y > f.y1) continue;
+          const PlacedFogVolume& v = medium.volumes()[size_t(f.volume)];
+          for (int k = f.k0; k <= f.k1; ++k) medium.apply_volume(v, dir * centers[size_t(k)], column[k]);
+        }
+      }
+  });
+  VoxelizeStats stats;
+  stats.visible_volumes = int(footprints.size());
+  for (const VolumeFootprint& f : footprints)
+    stats.volume_froxels += size_t(f.x1 - f.x0 + 1) * size_t(f.y1 - f.y0 + 1) * size_t(f.k1 - f.k0 + 1);
+  return stats;
+}
+
+}  // namespace cr

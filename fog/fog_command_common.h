@@ -1,0 +1,61 @@
+#pragma once
+// What the fog commands share: option parsing, loading a scene and profile,
+// rendering the fog-free base frame with the engine (depth, shadow map and
+// the light the atmosphere provides), running a froxel configuration on it,
+// and the image error metric.
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "engine/core/profile.h"
+#include "engine/render/plugin.h"
+#include "engine/render/renderer.h"
+#include "engine/scene/scene.h"
+#include "engine/scene/scene_description.h"
+#include "fog/froxel_fog.h"
+
+namespace cr {
+
+// "--key value" options after one positional scene path. Throws Error on
+// unknown keys or a missing value.
+struct FogCommandArgs {
+  std::string scene;
+  std::map<std::string, std::string> options;
+  std::string get(const std::string& key, const std::string& fallback) const;
+  int get_int(const std::string& key, int fallback, int min, int max) const;
+  double get_double(const std::string& key, double fallback, double min, double max) const;
+};
+FogCommandArgs parse_fog_command_args(const std::vector<std::string>& args, const std::vector<std::string>& allowed);
+
+struct FogRun {
+  SceneDescription description;
+  Profile profile;
+  std::unique_ptr<Scene> scene;
+  FogSceneSettings fog_scene;
+  FogProfileSettings fog_profile;
+};
+// Loads scene, profile (a path, or a name under <exe dir>/profiles) and glTF;
+// the scene must have a "fog" section.
+FogRun load_fog_run(const FogCommandArgs& args, const PluginRegistry& registry);
+
+// The registry's plugins except the fog: the engine's base image.
+std::vector<std::unique_ptr<Plugin>> plugins_without_fog(const PluginRegistry& registry);
+
+// Times (ms) of one froxel frame's steps.
+struct FroxelTimes {
+  double density = 0, lighting = 0, reproject = 0, filter = 0, integrate = 0, composite = 0;
+  double passes() const { return density + lighting + reproject + filter + integrate; }
+};
+// Renders one froxel frame over the base renderer's current frame and
+// returns the composited colour.
+std::vector<glm::vec3> froxel_frame(FroxelFog& fog, const FrameView& view, const Renderer& base, JobSystem& jobs,
+                                    FroxelTimes* times);
+
+// Per-pixel relative luminance error |Y - Y_ref| / max(Y_ref, floor): mean and 95th percentile.
+struct ImageError {
+  double mean = 0, p95 = 0;
+};
+ImageError relative_luminance_error(const std::vector<glm::vec3>& reference, const std::vector<glm::vec3>& test);
+
+}  // namespace cr

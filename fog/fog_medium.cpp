@@ -1,0 +1,94 @@
+#include "fog/fog_medium.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "fog/value_noise.h"
+
+namespace cr {
+
+FogMedium::FogMedium(const FogSceneSettings& settings) : settings_(settings) {
+  // HDRP: the density falls to 0.001 of the base at max_height:
+  // exp(-d / H) = 0.001 gives H = d / ln(1000) = 0.144765 d.
+  const float layer = std::max(0.01f, settings.max_height - settings.base_height);
+  inv_scale_height_ = 1.0f / (layer * 0.144765f);
+}
+
+void FogMedium::set_camera(const glm::dvec3& camera_position) {
+  base_rel_ = float(double(settings_.base_height) - camera_position.y);
+  placed_.clear();
+  for (size_t i = 0; i < settings_.volumes.size(); ++i) {
+    const FogVolume& v = settings_.volumes[i];
+    if (!(v.half_size.x > 0.0f && v.half_size.y > 0.0f && v.half_size.z > 0.0f)) continue;
+    PlacedFogVolume p;
+    p.center = glm::vec3(v.center - camera_position);
+    for (int a = 0; a < 3; ++a) p.axes[a] = v.axes[a];
+    p.half_size = v.half_size;
+    p.fade = v.fade;
+    p.density.extinction = v.extinction;
+    p.density.scattering = v.albedo * v.extinction;
+    p.blend = v.blend;
+    p.noise = v.noise;
+    p.source_index = int(i);
+    placed_.push_back(p);
+  }
+}
+
+FogDensity FogMedium::height_fog(const glm::vec3& rel) const {
+  FogDensity d;
+  if (!settings_.height_fog) return d;
+  const float above = std::max(rel.y - base_rel_, 0.0f);
+  const float m = std::exp(-above * inv_scale_height_);
+  d.extinction = settings_.extinction * m;
+  d.scattering = settings_.albedo * d.extinction;
+  return d;
+}
+
+void FogMedium::apply_volume(const PlacedFogVolume& v, const glm::vec3& rel, FogDensity& dst) const {
+  const glm::vec3 o = rel - v.center;
+  const glm::vec3 local(glm::dot(o, v.axes[0]), glm::dot(o, v.axes[1]), glm::dot(o, v.axes[2]));
+  const glm::vec3 inside = v.half_size - glm::abs(local);  // distance to each face pair
+  const float nearest_face = std::min(inside.x, std::min(inside.y, inside.z));
+  if (!(nearest_face >= 0.0f)) return;
+  float fade = 1.0f;
+  if (v.fade > 0.0f) fade = std::min(nearest_face / v.fade, 1.0f);
+  FogDensity src = v.density;
+  if (v.noise.enabled) {
+    const float n = fractal_noise(local / v.noise.scale, v.noise.octaves);
+    const float m = 1.0f + (n - 1.0f) * v.noise.strength;
+    src.extinction *= m;
+    src.scattering *= m;
+  }
+  // Every mode is "lerp(dst, op(dst, src), fade)": the fade blends the
+  // operation in, so no mode opens a gap at the volume's edge.
+  FogDensity op;
+  switch (v.blend) {
+    case FogBlend::Overwrite: op = src; break;
+    case FogBlend::Additive:
+      op.scattering = dst.scattering + src.scattering;
+      op.extinction = dst.extinction + src.extinction;
+      break;
+    case FogBlend::Multiply:  // the volume's values act as factors
+      op.scattering = dst.scattering * src.scattering;
+      op.extinction = dst.extinction * src.extinction;
+      break;
+    case FogBlend::Min:
+      op.scattering = glm::min(dst.scattering, src.scattering);
+      op.extinction = std::min(dst.extinction, src.extinction);
+      break;
+    case FogBlend::Max:
+      op.scattering = glm::max(dst.scattering, src.scattering);
+      op.extinction = std::max(dst.extinction, src.extinction);
+      break;
+  }
+  dst.scattering += (op.scattering - dst.scattering) * fade;
+  dst.extinction += (op.extinction - dst.extinction) * fade;
+}
+
+FogDensity FogMedium::sample(const glm::vec3& rel) const {
+  FogDensity d = height_fog(rel);
+  for (const PlacedFogVolume& v : placed_) apply_volume(v, rel, d);
+  return d;
+}
+
+}  // namespace cr

@@ -1,0 +1,71 @@
+#include "fog/fog_plugin.h"
+
+#include "engine/render/frame_graph.h"
+
+namespace cr {
+
+bool FogPlugin::configure(const Scene& scene, const SceneDescription& description, const Profile& profile) {
+  (void)scene;
+  // The profile section is validated even when the scene has no fog, so a
+  // bad profile is reported whatever scene it is used with.
+  FogProfileSettings p;
+  if (profile.plugins.contains("fog")) p = parse_fog_profile(profile.plugins.at("fog"), profile.path);
+  fog_.reset();
+  if (!description.plugins.contains("fog")) return false;
+  const FogSceneSettings s = parse_fog_scene(description.plugins.at("fog"), description.path);
+  fog_ = std::make_unique<FroxelFog>(p, s);
+  return true;
+}
+
+void FogPlugin::add_passes(FrameGraph& graph, FrameContext& ctx) {
+  FroxelFog* fog = fog_.get();
+  FrameContext* c = &ctx;
+  const FogProfileSettings& p = fog->profile();
+  graph.add_pass(
+      "fog.density", [](FrameGraph::Builder& b) { b.write("fog.density"); },
+      [fog, c] {
+        fog->begin_frame(c->view, c->jobs);
+        fog->density(c->jobs);
+      });
+  graph.add_pass(
+      "fog.lighting",
+      [](FrameGraph::Builder& b) {
+        b.read("fog.density").read("shadow_map").read("light_environment").write("fog.lighting");
+      },
+      [fog, c] { fog->lighting(c->light, c->shadow, c->jobs); });
+  std::string sun = "fog.lighting";
+  if (p.reprojection) {
+    graph.add_pass(
+        "fog.reproject", [](FrameGraph::Builder& b) { b.read("fog.lighting").write("fog.history"); },
+        [fog, c] { fog->reproject(c->jobs); });
+    sun = "fog.history";
+  }
+  if (p.filter) {
+    graph.add_pass(
+        "fog.filter", [sun](FrameGraph::Builder& b) { b.read(sun).write("fog.filtered"); },
+        [fog, c] { fog->filter(c->jobs); });
+    sun = "fog.filtered";
+  }
+  graph.add_pass(
+      "fog.integrate",
+      [sun](FrameGraph::Builder& b) { b.read("fog.density").read(sun).read("light_environment").write("fog.volume"); },
+      [fog, c] { fog->integrate(c->light, c->jobs); });
+}
+
+void FogPlugin::composite(const FrameContext& ctx, int x0, int y0, int x1, int y1) {
+  fog_->composite(ctx.buffers, x0, y0, x1, y1);
+}
+
+void FogPlugin::report_frame(nlohmann::json& frame) {
+  if (!fog_) return;
+  const FroxelGrid& g = fog_->grid();
+  const FroxelFogStats& s = fog_->stats();
+  frame["froxels"] = {g.nx(), g.ny(), g.nz()};
+  frame["fog_range_m"] = {g.near_distance(), g.far_distance()};
+  frame["visible_volumes"] = s.voxelize.visible_volumes;
+  frame["volume_froxels"] = s.voxelize.volume_froxels;
+  frame["history_used"] = s.history_used;
+  frame["history_rejected_froxels"] = s.reproject.rejected;
+}
+
+}  // namespace cr

@@ -1,0 +1,38 @@
+#pragma once
+// The froxel fog as an engine plugin ("fog"): validates the scene's and the
+// profile's "fog" sections, declares the passes fog.density -> fog.lighting
+// (reads shadow_map, light_environment) -> fog.reproject -> fog.filter ->
+// fog.integrate (writes fog.volume), and composites per pixel after the
+// atmosphere (order 200). A scene without a "fog" section adds no pass.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "engine/render/plugin.h"
+#include "fog/froxel_fog.h"
+
+namespace cr {
+
+class FogPlugin : public Plugin {
+ public:
+  std::string name() const override { return "fog"; }
+  bool configure(const Scene& scene, const SceneDescription& description, const Profile& profile) override;
+  void add_passes(FrameGraph& graph, FrameContext& ctx) override;
+  std::vector<std::string> composite_reads() const override { return {"fog.volume"}; }
+  int composite_order() const override { return 200; }
+  bool has_composite() const override { return true; }
+  void composite(const FrameContext& ctx, int x0, int y0, int x1, int y1) override;
+  void report_frame(nlohmann::json& frame) override;
+
+  // The fog state (for commands and tests); null before configure().
+  FroxelFog* fog() { return fog_.get(); }
+
+ private:
+  std::unique_ptr<FroxelFog> fog_;
+};
+
+// Adds the "fog" plugin factory and the fog commands (fog-accuracy,
+// fog-temporal, fog-bench) to the registry.
+void register_fog_plugin(PluginRegistry& registry);
+
+}  // namespace cr

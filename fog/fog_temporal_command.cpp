@@ -1,0 +1,127 @@
+// fog-temporal: what reprojection costs and buys, per test path.
+//   fast path    the scene's first camera translated `speed` m and yawed `turn`
+//                degrees per frame; ghosting = mean relative luminance error
+//                against the converged (7 jitter samples, no history) frame
+//   static view  the first camera held still; temporal noise = mean relative
+//                luminance change between consecutive frames, plus the error
+//                against the converged frame
+// Both with the profile's reprojection (clamped history), HDRP's unclamped
+// history and no reprojection (single jittered sample per frame).
+#include <cmath>
+#include <cstdio>
+
+#include "engine/core/error.h"
+#include "fog/fog_command_common.h"
+#include "fog/fog_commands.h"
+
+namespace cr {
+
+namespace {
+
+struct Variant {
+  const char* name;
+  FogProfileSettings profile;
+};
+
+std::vector<Variant> variants(const FogProfileSettings& p) {
+  FogProfileSettings clamped = p, hdrp = p, single = p;
+  clamped.reprojection = hdrp.reprojection = true;
+  clamped.history_clamp = true;
+  hdrp.history_clamp = false;
+  single.reprojection = false;
+  return {{"reprojection (clamped)", clamped}, {"reprojection (HDRP)", hdrp}, {"no reprojection", single}};
+}
+
+std::vector<glm::vec3> converged(const FogRun& run, const FrameView& view, const Renderer& base, JobSystem& jobs) {
+  FogProfileSettings p = run.fog_profile;
+  p.reprojection = false;
+  FroxelFog fog(p, run.fog_scene);
+  fog.set_lighting_samples(7);
+  FrameView v = view;
+  v.history_valid = false;
+  return froxel_frame(fog, v, base, jobs, nullptr);
+}
+
+}  // namespace
+
+int fog_temporal_command(const std::vector<std::string>& args, const PluginRegistry& registry) {
+  const FogCommandArgs a = parse_fog_command_args(args, {"profile", "resolution", "frames", "threads", "speed", "turn"});
+  const FogRun run = load_fog_run(a, registry);
+  JobSystem jobs(unsigned(a.get_int("threads", int(JobSystem::default_thread_count()), 1, 1024)));
+  const int frames = a.get_int("frames", 24, 9, 10000);
+  const double speed = a.get_double("speed", 1.5, 0.0, 1e4);
+  const double turn = a.get_double("turn", 3.0, -180.0, 180.0);
+  const std::vector<Variant> vs = variants(run.fog_profile);
+  std::printf("fog-temporal %s, %dx%d, %d frames (statistics over frames >= 8)\n", run.description.path.c_str(),
+              run.profile.width, run.profile.height, frames);
+
+  // Fast path: explicit camera keys replace the scene's camera.
+  SceneDescription fast = run.description;
+  {
+    Renderer probe(*run.scene, run.description, run.profile, {}, jobs);
+    const Camera c0 = probe.frame_view(0).camera;
+    fast.camera.gltf_camera.reset();
+    fast.camera.keys.clear();
+    fast.camera.znear = c0.znear;
+    for (int f = 0; f < frames; ++f) {
+      const double yaw = glm::radians(turn * f);
+      const glm::dvec3 fw(c0.forward), right(c0.right), up(0.0, 1.0, 0.0);
+      // Rotate forward about world up by yaw (Rodrigues).
+      const glm::dvec3 dir = fw * std::cos(yaw) + glm::cross(up, fw) * std::sin(yaw) + up * glm::dot(up, fw) * (1.0 - std::cos(yaw));
+      CameraKey k;
+      k.frame = f;
+      k.position = c0.position + right * (speed * f);
+      k.target = k.position + dir * 10.0;
+      k.vfov_deg = float(glm::degrees(double(c0.vfov_rad)));
+      fast.camera.keys.push_back(k);
+    }
+  }
+  std::vector<double> ghost_mean(vs.size(), 0.0), ghost_worst(vs.size(), 0.0);
+  {
+    Renderer base(*run.scene, fast, run.profile, plugins_without_fog(registry), jobs);
+    std::vector<FroxelFog> fogs;
+    for (const Variant& v : vs) fogs.emplace_back(v.profile, run.fog_scene);
+    for (int f = 0; f < frames; ++f) {
+      base.render_frame(f);
+      const FrameView view = base.frame_view(f);
+      const std::vector<glm::vec3> truth = converged(run, view, base, jobs);
+      for (size_t i = 0; i < vs.size(); ++i) {
+        const double e = relative_luminance_error(truth, froxel_frame(fogs[i], view, base, jobs, nullptr)).mean;
+        if (f < 8) continue;
+        ghost_mean[i] += e / double(frames - 8);
+        ghost_worst[i] = std::max(ghost_worst[i], e);
+      }
+    }
+  }
+  std::printf("fast path (%.2f m + %.2f deg per frame): error vs converged frame\n", speed, turn);
+  std::printf("  %-24s %10s %10s\n", "", "mean", "worst");
+  for (size_t i = 0; i < vs.size(); ++i) std::printf("  %-24s %10.4f %10.4f\n", vs[i].name, ghost_mean[i], ghost_worst[i]);
+
+  // Static view.
+  Renderer base(*run.scene, run.description, run.profile, plugins_without_fog(registry), jobs);
+  base.render_frame(0);
+  const FrameView view0 = base.frame_view(0);
+  const std::vector<glm::vec3> truth = converged(run, view0, base, jobs);
+  std::printf("static view: temporal noise (frame-to-frame change) and error vs converged frame\n");
+  std::printf("  %-24s %10s %10s\n", "", "noise", "error");
+  for (const Variant& v : vs) {
+    FroxelFog fog(v.profile, run.fog_scene);
+    std::vector<glm::vec3> prev;
+    double noise = 0.0, error = 0.0;
+    for (int f = 0; f < frames; ++f) {
+      FrameView view = view0;
+      view.frame = f;
+      view.history_valid = f > 0;
+      std::vector<glm::vec3> img = froxel_frame(fog, view, base, jobs, nullptr);
+      if (f >= 8) {
+        noise += relative_luminance_error(prev, img).mean / double(frames - 8);
+        error += relative_luminance_error(truth, img).mean / double(frames - 8);
+      }
+      prev = std::move(img);
+    }
+    std::printf("  %-24s %10.4f %10.4f\n", v.name, noise, error);
+  }
+  return 0;
+}
+
+}  // namespace cr

@@ -1,0 +1,78 @@
+#include "fog/froxel_fog.h"
+
+namespace cr {
+
+FroxelFog::FroxelFog(const FogProfileSettings& profile, const FogSceneSettings& scene)
+    : profile_(resolve_fog_settings(profile, scene)), scene_(scene), medium_(scene) {}
+
+void FroxelFog::begin_frame(const FrameView& view, JobSystem& jobs) {
+  const FroxelGrid grid(view.width, view.height, profile_.froxel_size_px, profile_.slices, view.camera.znear,
+                        profile_.fog_distance, profile_.slice_uniformity);
+  view_ = make_froxel_view(grid, view.camera, jobs);
+  medium_.set_camera(view.camera.position);
+  frame_ = view.frame;
+  use_history_ = profile_.reprojection && have_history_ && view.history_valid;
+  stats_ = FroxelFogStats{};
+  stats_.history_used = use_history_;
+}
+
+void FroxelFog::density(JobSystem& jobs) { stats_.voxelize = voxelize_density(view_, medium_, jobs, density_); }
+
+void FroxelFog::lighting(const LightEnvironment& light, const ShadowMap& shadow, JobSystem& jobs) {
+  SunLightingInputs sun;
+  sun.direction = light.sun_direction;
+  sun.illuminance = light.sun_illuminance;
+  sun.illuminance_at = light.sun_at ? &light.sun_at : nullptr;
+  sun.camera_position = view_.camera.position;
+  JitterInputs jitter;
+  jitter.enabled = profile_.jitter;
+  jitter.frame = frame_;
+  jitter.samples = lighting_samples_;
+  const VolumeShadow volume_shadow(shadow, view_.camera.position);
+  light_froxels(view_, density_, sun, volume_shadow, jitter, jobs, sun_current_);
+  blended_ = -1;
+}
+
+void FroxelFog::reproject(JobSystem& jobs) {
+  if (!profile_.reprojection) return;
+  std::vector<glm::vec3>& out = history_[current_];
+  if (use_history_) {
+    stats_.reproject = reproject_history(view_, sun_current_, history_view_, history_[1 - current_],
+                                         profile_.history_weight, profile_.history_clamp, jobs, out);
+  } else {
+    out = sun_current_;
+  }
+  blended_ = current_;
+  history_view_ = view_;
+  have_history_ = true;
+  current_ = 1 - current_;
+}
+
+void FroxelFog::filter(JobSystem& jobs) {
+  if (profile_.filter) filter_slices(view_.grid, blended(), jobs, scratch_, filtered_);
+}
+
+void FroxelFog::integrate(const LightEnvironment& light, JobSystem& jobs) {
+  MediumLighting m;
+  m.phase = scene_.phase;
+  m.anisotropy = scene_.anisotropy;
+  m.sun_direction = light.sun_direction;
+  m.ambient_sh = light.ambient_sh;
+  integrate_columns(view_, density_, sun_light(), m, jobs, volume_);
+}
+
+void FroxelFog::composite(FrameBuffers& buffers, int x0, int y0, int x1, int y1) const {
+  composite_fog(view_.grid, volume_, buffers.distance, buffers.color, buffers.width, x0, y0, x1, y1);
+}
+
+void FroxelFog::render(const FrameView& view, const LightEnvironment& light, const ShadowMap& shadow,
+                       JobSystem& jobs) {
+  begin_frame(view, jobs);
+  density(jobs);
+  lighting(light, shadow, jobs);
+  reproject(jobs);
+  filter(jobs);
+  integrate(light, jobs);
+}
+
+}  // namespace cr

@@ -1,0 +1,79 @@
+#pragma once
+// The froxel fog of one view over time: settings, the grid, the per-frame
+// froxel buffers and the double-buffered history. The plugin runs its steps as
+// frame-graph passes; tests and commands run them directly. Steps of a frame
+// run in order: begin_frame, density, lighting, reproject, filter, integrate,
+// then composite (any pixel rectangles, concurrently).
+#include <vector>
+
+#include "engine/core/job_system.h"
+#include "engine/render/frame_buffers.h"
+#include "engine/render/plugin.h"
+#include "engine/shading/light_environment.h"
+#include "engine/shading/shadow_map.h"
+#include "fog/fog_medium.h"
+#include "fog/fog_settings.h"
+#include "fog/froxel_passes.h"
+
+namespace cr {
+
+struct FroxelFogStats {
+  VoxelizeStats voxelize;
+  ReprojectStats reproject;
+  bool history_used = false;
+};
+
+class FroxelFog {
+ public:
+  FroxelFog(const FogProfileSettings& profile, const FogSceneSettings& scene);
+
+  void begin_frame(const FrameView& view, JobSystem& jobs);
+  void density(JobSystem& jobs);
+  void lighting(const LightEnvironment& light, const ShadowMap& shadow, JobSystem& jobs);
+  void reproject(JobSystem& jobs);
+  void filter(JobSystem& jobs);
+  void integrate(const LightEnvironment& light, JobSystem& jobs);
+  void composite(FrameBuffers& buffers, int x0, int y0, int x1, int y1) const;
+  // All steps but the composite, in order.
+  void render(const FrameView& view, const LightEnvironment& light, const ShadowMap& shadow, JobSystem& jobs);
+
+  // Non-temporal supersampling: average n samples of the jitter sequence per
+  // froxel in one frame (the many-sample result reprojection converges to).
+  void set_lighting_samples(int n) { lighting_samples_ = n; }
+  // Forgets the history (as after a camera cut).
+  void reset_history() { have_history_ = false; }
+
+  const FogProfileSettings& profile() const { return profile_; }
+  const FogSceneSettings& scene() const { return scene_; }
+  const FogMedium& medium() const { return medium_; }
+  const FroxelGrid& grid() const { return view_.grid; }
+  const FroxelView& view() const { return view_; }
+  const std::vector<FogDensity>& density_volume() const { return density_; }
+  // The sun term the integration uses (after reprojection and filter).
+  const std::vector<glm::vec3>& sun_light() const { return profile_.filter ? filtered_ : blended(); }
+  const std::vector<IntegratedFroxel>& volume() const { return volume_; }
+  const FroxelFogStats& stats() const { return stats_; }
+
+ private:
+  const std::vector<glm::vec3>& blended() const { return blended_ < 0 ? sun_current_ : history_[blended_]; }
+
+  FogProfileSettings profile_;
+  FogSceneSettings scene_;
+  FogMedium medium_;
+  FroxelView view_;
+  int frame_ = 0;
+  bool use_history_ = false;
+  bool have_history_ = false;
+  int lighting_samples_ = 1;
+  std::vector<FogDensity> density_;
+  std::vector<glm::vec3> sun_current_;
+  std::vector<glm::vec3> history_[2];  // [current_] written this frame, the other read
+  int current_ = 0;
+  FroxelView history_view_;
+  std::vector<glm::vec3> scratch_, filtered_;
+  int blended_ = -1;  // the reprojection's output: history_[blended_], or sun_current_ when -1
+  std::vector<IntegratedFroxel> volume_;
+  FroxelFogStats stats_;
+};
+
+}  // namespace cr

@@ -1,0 +1,112 @@
+#pragma once
+// The froxel fog passes as functions of explicit inputs (the plugin chains
+// them in the frame graph; tests call them directly). Every pass splits its
+// output by column rows or slices over the job system: each froxel is written
+// by exactly one job, so results are identical for any thread count.
+//
+// Data per froxel (column-major, see FroxelGrid):
+//   density    FogDensity: scattering RGB and extinction at the froxel centre
+//   sun        RGB: sun illuminance x shadow visibility at an importance-
+//              sampled point of the froxel, *without* the phase function
+//   volume     IntegratedFroxel: in-scattered radiance and transmittance from
+//              the near plane to the froxel's far boundary, and its extinction
+#include <array>
+#include <functional>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "engine/core/job_system.h"
+#include "engine/scene/camera.h"
+#include "engine/shading/light_environment.h"
+#include "fog/fog_medium.h"
+#include "fog/froxel_grid.h"
+#include "fog/volume_shadow.h"
+
+namespace cr {
+
+// The grid placed in one frame's view: column centre directions.
+struct FroxelView {
+  FroxelGrid grid;
+  Camera camera;
+  std::vector<glm::vec3> directions;  // per column, unit, world space
+};
+FroxelView make_froxel_view(const FroxelGrid& grid, const Camera& camera, JobSystem& jobs);
+
+// Screen rectangle (columns) and slice range a volume may overlap; volumes
+// outside the view or the fog range get none and cost nothing.
+struct VolumeFootprint {
+  int volume = 0;  // index into FogMedium::volumes()
+  int x0 = 0, y0 = 0, x1 = -1, y1 = -1;  // inclusive column ranges
+  int k0 = 0, k1 = -1;                   // inclusive slice range
+};
+std::vector<VolumeFootprint> volume_footprints(const FroxelView& view, const FogMedium& medium);
+
+struct VoxelizeStats {
+  int visible_volumes = 0;
+  size_t volume_froxels = 0;  // froxels whose footprint a volume covers
+};
+// fog.density: height fog in every froxel, then each visible volume in its footprint.
+VoxelizeStats voxelize_density(const FroxelView& view, const FogMedium& medium, JobSystem& jobs,
+                               std::vector<FogDensity>& density);
+
+struct SunLightingInputs {
+  glm::vec3 direction{0.0f, 1.0f, 0.0f};  // towards the sun
+  glm::vec3 illuminance{0.0f};
+  const std::function<glm::vec3(const glm::vec3&)>* illuminance_at = nullptr;  // world position
+  glm::dvec3 camera_position{0.0};
+};
+struct JitterInputs {
+  bool enabled = true;
+  int frame = 0;    // index into the 7-frame sequence
+  int samples = 1;  // > 1: average this many consecutive sequence samples (non-temporal reference)
+};
+// fog.lighting: phase-free sun light at the importance-sampled jittered point.
+void light_froxels(const FroxelView& view, const std::vector<FogDensity>& density, const SunLightingInputs& sun,
+                   const VolumeShadow& shadow, const JitterInputs& jitter, JobSystem& jobs,
+                   std::vector<glm::vec3>& sun_light);
+
+// fog.reproject: out = lerp(current, history(reprojected centre), weight);
+// history is rejected outside the previous grid (frustum and depth range) and,
+// with clamp, limited to the current 3x3 neighbourhood's range in the slice.
+struct ReprojectStats {
+  bool identity = false;       // same camera: history read in place
+  size_t rejected = 0;         // froxels without history
+};
+ReprojectStats reproject_history(const FroxelView& view, const std::vector<glm::vec3>& current,
+                                 const FroxelView& history_view, const std::vector<glm::vec3>& history,
+                                 float history_weight, bool clamp, JobSystem& jobs, std::vector<glm::vec3>& out);
+
+// fog.filter: 3x3 Gaussian (sigma 1 froxel) in each slice, separable, clamped at the edges.
+void filter_slices(const FroxelGrid& grid, const std::vector<glm::vec3>& in, JobSystem& jobs,
+                   std::vector<glm::vec3>& scratch, std::vector<glm::vec3>& out);
+
+struct IntegratedFroxel {
+  glm::vec3 in_scatter{0.0f};  // radiance added between the near plane and the far boundary
+  float transmittance = 1.0f;  // from the near plane to the far boundary
+  float extinction = 0.0f;     // of this froxel, for the exact in-slice lookup
+};
+struct MediumLighting {
+  FogPhase phase = FogPhase::HenyeyGreenstein;
+  float anisotropy = 0.0f;
+  glm::vec3 sun_direction{0.0f, 1.0f, 0.0f};
+  std::array<glm::vec3, 9> ambient_sh{};
+};
+// fog.integrate: front-to-back per column. The phase function is applied here
+// at the column's centre direction (never jittered, never reprojected).
+void integrate_columns(const FroxelView& view, const std::vector<FogDensity>& density,
+                       const std::vector<glm::vec3>& sun_light, const MediumLighting& lighting, JobSystem& jobs,
+                       std::vector<IntegratedFroxel>& volume);
+
+// Composite of pixels [x0,x1) x [y0,y1): colour = colour * T + L at the
+// pixel's distance. Bilinear across columns; along depth the froxel's
+// homogeneous-medium closed form, so nothing behind the pixel's surface is
+// added (no leak through opaque geometry). Sky (+inf) uses the far end.
+void composite_fog(const FroxelGrid& grid, const std::vector<IntegratedFroxel>& volume,
+                   const std::vector<float>& distance, std::vector<glm::vec3>& color, int width, int x0, int y0,
+                   int x1, int y1);
+// The lookup itself: in-scattered radiance and transmittance at a pixel position and distance.
+void lookup_fog(const FroxelGrid& grid, const std::vector<IntegratedFroxel>& volume, float px, float py,
+                float distance, glm::vec3& in_scatter, float& transmittance);
+
+}  // namespace cr

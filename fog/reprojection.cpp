@@ -1,0 +1,143 @@
+// fog.reproject: temporal accumulation of the jittered sun term.
+//
+// What is reprojected: only the phase-free sun light (illuminance x shadow
+// visibility at the jittered sample). Density, ambient light and the phase
+// function are evaluated every frame at the froxel centre without jitter, so
+// they need no history and cannot ghost; in particular the anisotropic phase
+// is applied after the blend with the current view direction, which is exact
+// for the one directional light (HDRP reprojects phase-free lighting too, but
+// divides a per-light mix back out, which flickers with several lights).
+//
+// Each froxel centre (world position) is projected with the history's camera
+// into the history's grid and read with trilinear interpolation; points
+// outside the previous frustum or fog range have no history.
+#include <algorithm>
+#include <cmath>
+
+#include "fog/froxel_passes.h"
+
+namespace cr {
+
+namespace {
+
+bool same_camera(const Camera& a, const Camera& b) {
+  return a.position == b.position && a.forward == b.forward && a.up == b.up && a.right == b.right &&
+         a.vfov_rad == b.vfov_rad && a.aspect == b.aspect && a.znear == b.znear;
+}
+
+// Projection of points into the history's grid, set up once per frame.
+struct HistoryProjection {
+  const FroxelGrid* grid;
+  const std::vector<glm::vec3>* values;
+  float scale_x, scale_y;  // pixels per unit of x/z and y/z
+  float max_px, max_py;    // grid extent in pixels
+  float inv_size;          // 1 / froxel size
+
+  HistoryProjection(const FroxelView& hv, const std::vector<glm::vec3>& history) {
+    grid = &hv.grid;
+    values = &history;
+    const float tan_y = std::tan(0.5f * hv.camera.vfov_rad);
+    scale_x = 0.5f * float(grid->width()) / (tan_y * hv.camera.aspect);
+    scale_y = 0.5f * float(grid->height()) / tan_y;
+    inv_size = 1.0f / float(grid->froxel_size());
+    max_px = float(grid->nx() * grid->froxel_size());
+    max_py = float(grid->ny() * grid->froxel_size());
+  }
+
+  // Trilinear read at q (history camera's right, up, forward axes, relative
+  // to its position); false outside the history's frustum or fog range.
+  bool sample(const glm::vec3& q, glm::vec3& out) const {
+    const FroxelGrid& hg = *grid;
+    if (!(q.z > 0.0f)) return false;
+    const float inv_z = 1.0f / q.z;
+    const float px = q.x * inv_z * scale_x + 0.5f * float(hg.width());
+    const float py = 0.5f * float(hg.height()) - q.y * inv_z * scale_y;
+    const float dist = glm::length(q);
+    if (!(px >= 0.0f && py >= 0.0f && px <= max_px && py <= max_py && dist >= hg.near_distance() &&
+          dist <= hg.far_distance()))
+      return false;
+    const int nx = hg.nx(), ny = hg.ny(), nz = hg.nz();
+    // Froxel-centre coordinates, clamped to the grid.
+    const float fx = std::clamp(px * inv_size - 0.5f, 0.0f, float(nx - 1));
+    const float fy = std::clamp(py * inv_size - 0.5f, 0.0f, float(ny - 1));
+    const float fz = std::clamp(hg.slice_coord(dist) - 0.5f, 0.0f, float(nz - 1));
+    const int x0 = int(fx), y0 = int(fy), z0 = int(fz);
+    const int x1 = std::min(x0 + 1, nx - 1), y1 = std::min(y0 + 1, ny - 1);
+    const int dz = z0 + 1 < nz ? 1 : 0;
+    const float ax = fx - float(x0), ay = fy - float(y0), az = fz - float(z0);
+    const glm::vec3* h = values->data();
+    auto lerp_z = [&](int xi, int yi) {
+      const glm::vec3* c = h + hg.index(xi, yi, z0);
+      return c[0] + (c[dz] - c[0]) * az;
+    };
+    const glm::vec3 v00 = lerp_z(x0, y0), v10 = lerp_z(x1, y0), v01 = lerp_z(x0, y1), v11 = lerp_z(x1, y1);
+    const glm::vec3 v0 = v00 + (v10 - v00) * ax, v1 = v01 + (v11 - v01) * ax;
+    out = v0 + (v1 - v0) * ay;
+    return true;
+  }
+};
+
+}  // namespace
+
+ReprojectStats reproject_history(const FroxelView& view, const std::vector<glm::vec3>& current,
+                                 const FroxelView& history_view, const std::vector<glm::vec3>& history,
+                                 float history_weight, bool clamp, JobSystem& jobs, std::vector<glm::vec3>& out) {
+  const FroxelGrid& g = view.grid;
+  const FroxelGrid& hg = history_view.grid;
+  out.resize(g.count());
+  ReprojectStats stats;
+  const float w = history_weight;
+  stats.identity = same_camera(view.camera, history_view.camera) && g.same_layout(hg);
+  const Camera& hc = history_view.camera;
+  // Froxel centre in the history camera's view: q(t) = offset + t * R dir.
+  const glm::vec3 offset_world(view.camera.position - hc.position);
+  const glm::vec3 offset(glm::dot(offset_world, hc.right), glm::dot(offset_world, hc.up),
+                         glm::dot(offset_world, hc.forward));
+  const HistoryProjection projection(history_view, history);
+  const int nx = g.nx(), nz = g.nz();
+  std::vector<float> centers(static_cast<size_t>(nz));
+  for (int k = 0; k < nz; ++k) centers[size_t(k)] = g.center(k);
+  std::vector<size_t> rejected_per_row(size_t(g.ny()), 0);
+  jobs.parallel_for("fog.reproject", size_t(g.ny()), 1, [&](size_t begin, size_t end) {
+    for (int y = int(begin); y < int(end); ++y)
+      for (int x = 0; x < nx; ++x) {
+        const glm::vec3 d = view.directions[size_t(y) * nx + x];
+        const glm::vec3 dv(glm::dot(d, hc.right), glm::dot(d, hc.up), glm::dot(d, hc.forward));
+        const size_t base = g.index(x, y, 0);
+        const glm::vec3* neighbours[9];
+        for (int i = 0; i < 9; ++i)
+          neighbours[i] = current.data() + g.index(std::clamp(x + i % 3 - 1, 0, nx - 1),
+                                                   std::clamp(y + i / 3 - 1, 0, g.ny() - 1), 0);
+        for (int k = 0; k < nz; ++k) {
+          const glm::vec3& cur = current[base + k];
+          glm::vec3& dst = out[base + k];
+          glm::vec3 h;
+          if (stats.identity) {
+            h = history[base + k];
+          } else if (!projection.sample(offset + dv * centers[size_t(k)], h)) {
+            dst = cur;
+            ++rejected_per_row[size_t(y)];
+            continue;
+          }
+          if (clamp) {
+            // Clamp the history to the range of the current frame's 3x3
+            // neighbourhood in this slice (TAA-style): neighbours sample other
+            // depth strata (column hash), so their range brackets the
+            // converged value; history outside it is a ghost (moved shaft,
+            // disocclusion) and is cut. HDRP does not clamp.
+            glm::vec3 lo = cur, hi = cur;
+            for (const glm::vec3* n : neighbours) {
+              lo = glm::min(lo, n[k]);
+              hi = glm::max(hi, n[k]);
+            }
+            h = glm::clamp(h, lo, hi);
+          }
+          dst = cur + (h - cur) * w;
+        }
+      }
+  });
+  for (size_t r : rejected_per_row) stats.rejected += r;
+  return stats;
+}
+
+}  // namespace cr

@@ -1,0 +1,36 @@
+#pragma once
+// Sun visibility for points inside the fog, from the engine's shadow map
+// (same texel layout and constant bias as ShadowMap::visibility, see
+// engine/shading/shadow_map.cpp) but without a normal offset and with a 2x2
+// bilinear filter instead of the wider PCF: the froxel jitter, temporal blend
+// and 3x3 filter already average many positions, and the lookup runs once per
+// froxel. Positions along one ray are linear in t in shadow space, so a ray
+// is set up once and each lookup is a few multiply-adds.
+#include <glm/glm.hpp>
+
+#include "engine/shading/shadow_map.h"
+
+namespace cr {
+
+class VolumeShadow {
+ public:
+  // camera_position: the frame's camera; lookups take camera-relative points.
+  VolumeShadow(const ShadowMap& map, const glm::dvec3& camera_position);
+
+  struct Ray {
+    glm::vec3 origin;  // texel x, texel y, receiver depth at t = 0
+    glm::vec3 step;    // per metre along the ray
+  };
+  Ray ray(const glm::vec3& origin_rel, const glm::vec3& direction) const;
+  // Fraction of the sun visible at origin + t * direction (1 = lit).
+  float visibility(const Ray& r, float t) const;
+  bool empty() const { return size_ <= 0; }
+
+ private:
+  const float* depth_ = nullptr;
+  int size_ = 0;
+  float bias_ = 0.0f;
+  glm::mat4 to_texel_{1.0f};  // camera-relative position -> (texel x, texel y, biased depth)
+};
+
+}  // namespace cr
