@@ -3,10 +3,11 @@
 // submission order, into a tile-local buffer that is copied out at the end
 // (one job per tile, so every output pixel has exactly one writer).
 //
-// Per triangle the tile part of its bounding box is walked in 8x8 blocks.
-// Each block classifies the three edges in int64 at its corners: an edge that
-// excludes the block rejects it, an edge that includes it is dropped, and only
-// crossing edges are evaluated per pixel, in int32 with SSE2, 8 pixels a row.
+// A small triangle (vertex extent <= 64 pixels, the common case) has all its
+// edge values in int32 and is scanned row by row over its box, 8 pixels per
+// SSE2 span. A larger one is walked in 8x8 blocks, each classifying the edges
+// in int64 at its corners: an edge that excludes the block rejects it, one
+// that includes it is dropped, and only crossing edges are evaluated per pixel.
 // Depth is float reversed-Z with an early GREATER test; alpha-mask coverage
 // is asked only for samples that pass it. Everything a pixel sees is a pure
 // function of the pixel and the triangle, so results do not depend on the

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <limits>
 
 #include "engine/core/error.h"
@@ -69,7 +70,8 @@ CoverageFn alpha_coverage(const Scene& scene, const TiledRasterizer& raster) {
     const Draw& d = scene.draws[r.draw_index];
     const Primitive& prim = scene.primitive(d);
     const Material& m = material_of(scene, prim);
-    return material_alpha(scene, m, interpolate_surface(prim, d, r.triangle_index, bary, r.front_facing)) >=
+    // Coverage reads uv and colour only: no tangent frame.
+    return material_alpha(scene, m, interpolate_surface(prim, d, r.triangle_index, bary, r.front_facing, false)) >=
            m.alpha_cutoff;
   };
 }
@@ -221,17 +223,21 @@ const FrameRecord& Renderer::render_frame(int frame) {
   for (auto& p : plugins_) p->add_passes(graph, ctx);
 
   const ShadingInputs shading{&scene_, &light_, &shadow_, cam.position};
-  auto shade_fragment = [this, &geo, &shading](uint32_t id, const Barycentrics& bary) {
+  // Built by the passes that shade: the light and shadow passes have run then.
+  std::optional<SurfaceShader> shader;
+  auto shade_fragment = [this, &geo, &shader](uint32_t id, const Barycentrics& bary) {
     const TriangleRef r = geo.view.ref(id);
     const Draw& d = scene_.draws[r.draw_index];
     const Primitive& prim = scene_.primitive(d);
-    const SurfaceSample s = interpolate_surface(prim, d, r.triangle_index, bary, r.front_facing);
-    return shade_surface(shading, material_of(scene_, prim), s);
+    const Material& m = material_of(scene_, prim);
+    const SurfaceSample s = interpolate_surface(prim, d, r.triangle_index, bary, r.front_facing, needs_tangent(m));
+    return shader->shade(m, s);
   };
 
   graph.add_pass("shade", [](FrameGraph::Builder& b) {
     b.read("visibility").read("shadow_map").read("light_environment").write("hdr_color");
-  }, [this, &geo, &shade_fragment, w, h] {
+  }, [this, &geo, &shade_fragment, &shader, &shading, w, h] {
+    shader.emplace(shading);
     const std::vector<uint32_t>& ids = geo.view.visibility().triangle;
     // Without a sky plugin the background is the ambient radiance: a flat sky.
     const glm::vec3 background = description_.ambient;
@@ -259,7 +265,8 @@ const FrameRecord& Renderer::render_frame(int frame) {
 
   if (!geo.blended.empty())
     graph.add_pass("transparent", [](FrameGraph::Builder& b) { b.read("hdr_color").write("hdr_color"); },
-                 [this, &geo, &shade_fragment, w] {
+                 [this, &geo, &shade_fragment, &shader, &shading, w] {
+    shader.emplace(shading);
     geo.view.render_blended(jobs_, geo.blended, [&](int x, int y, uint32_t id, const Barycentrics& bary) {
       const glm::vec4 c = shade_fragment(id, bary);
       glm::vec3& dst = buffers_.color[size_t(y) * size_t(w) + size_t(x)];

@@ -35,6 +35,10 @@ glm::vec4 sample_material_texture(const Scene& scene, const TextureRef& ref, con
 // Coverage for MASK (compared with alpha_cutoff) and opacity for BLEND.
 float material_alpha(const Scene& scene, const Material& material, const SurfaceSample& surface);
 
+// Whether shading the material reads SurfaceSample::tangent (its normal map
+// does): interpolate_surface can skip the tangent frame otherwise.
+inline bool needs_tangent(const Material& material) { return material.normal.valid(); }
+
 MaterialSample evaluate_material(const Scene& scene, const Material& material, const SurfaceSample& surface);
 
 }  // namespace cr

@@ -8,11 +8,18 @@
 
 namespace cr {
 
-// v / |v|, or `fallback` when v has no usable length (zero, denormal, non-finite).
-inline glm::vec3 normalize_or(const glm::vec3& v, const glm::vec3& fallback) {
+// v / |v|, or make_fallback() when v has no usable length (zero, denormal,
+// non-finite): for fallbacks that cost something to compute.
+template <typename MakeFallback>
+glm::vec3 normalize_or_else(const glm::vec3& v, MakeFallback make_fallback) {
   const float len = glm::length(v);
-  if (!(len > 1e-20f) || !std::isfinite(len)) return fallback;
+  if (!(len > 1e-20f) || !std::isfinite(len)) return make_fallback();
   return v / len;
+}
+
+// v / |v|, or `fallback` when v has no usable length.
+inline glm::vec3 normalize_or(const glm::vec3& v, const glm::vec3& fallback) {
+  return normalize_or_else(v, [&fallback] { return fallback; });
 }
 
 }  // namespace cr

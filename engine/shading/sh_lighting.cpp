@@ -66,6 +66,22 @@ glm::vec3 sh_irradiance(const ShCoefficients& c, const glm::vec3& n) {
   return sum;
 }
 
+ShLighting::ShLighting(const ShCoefficients& c) : radiance_(c), irradiance_{}, constant_(true) {
+  constexpr float kBand[3] = {float(kPi), float(2.0 * kPi / 3.0), float(kPi / 4.0)};
+  // The same products as sh_irradiance's kBand[l] * c[i], so the sums match.
+  for (size_t i = 0; i < 9; ++i) irradiance_[i] = kBand[i == 0 ? 0 : (i < 4 ? 1 : 2)] * c[i];
+  for (size_t i = 1; i < 9; ++i) constant_ = constant_ && c[i] == glm::vec3(0.0f);
+}
+
+// Both sums of sh_radiance and sh_irradiance in their order: c_0 Y_0 first,
+// then the others (sh_radiance's leading 0 + x is x).
+glm::vec3 ShLighting::evaluate(const ShCoefficients& c, const glm::vec3& d) {
+  const std::array<float, 9> y = sh_basis(d);
+  glm::vec3 sum = c[0] * y[0];
+  for (size_t i = 1; i < 9; ++i) sum += c[i] * y[i];
+  return sum;
+}
+
 ShCoefficients sh_constant_radiance(const glm::vec3& radiance) {
   ShCoefficients c{};
   // L = c0 * Y00 with Y00 = 1 / (2 sqrt(pi)).

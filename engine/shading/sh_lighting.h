@@ -23,6 +23,26 @@ std::array<float, 9> sh_basis(const glm::vec3& d);
 glm::vec3 sh_radiance(const ShCoefficients& c, const glm::vec3& d);
 // Irradiance on a surface with unit normal n: sum_l A_l sum_m c_lm Y_lm(n).
 glm::vec3 sh_irradiance(const ShCoefficients& c, const glm::vec3& n);
+// sh_radiance and sh_irradiance of one set of coefficients at many points,
+// with the same results: the band factors A_l are folded into a second
+// coefficient set once, and radiance constant over the sphere (all but c_0
+// zero, e.g. a flat ambient) evaluates to a constant without the basis.
+class ShLighting {
+ public:
+  explicit ShLighting(const ShCoefficients& c);
+  glm::vec3 radiance(const glm::vec3& d) const { return constant_ ? radiance_[0] * kY00 : evaluate(radiance_, d); }
+  glm::vec3 irradiance(const glm::vec3& n) const {
+    return constant_ ? irradiance_[0] * kY00 : evaluate(irradiance_, n);
+  }
+
+ private:
+  static constexpr float kY00 = 0.282094792f;
+  static glm::vec3 evaluate(const ShCoefficients& c, const glm::vec3& d);
+  ShCoefficients radiance_;
+  ShCoefficients irradiance_;  // A_l c_lm
+  bool constant_;
+};
+
 // Coefficients of radiance constant over the sphere (irradiance pi * L).
 ShCoefficients sh_constant_radiance(const glm::vec3& radiance);
 

@@ -6,6 +6,7 @@
 
 #include "engine/scene/scene.h"
 #include "engine/shading/light_environment.h"
+#include "engine/shading/sh_lighting.h"
 #include "engine/shading/shadow_map.h"
 #include "engine/shading/surface.h"
 
@@ -30,5 +31,23 @@ struct ShadingInputs {
 //            E_sh / L_sh = SH irradiance / radiance, clamped at 0;
 // emission = emissive factor * texture * kEmissiveNits.
 glm::vec4 shade_surface(const ShadingInputs& in, const Material& material, const SurfaceSample& surface);
+
+// shade_surface for many points of one frame, with what does not depend on
+// the point (sun direction, SH band factors, shadow map presence) prepared
+// once. Same results as shade_surface. Holds pointers into `in`'s scene,
+// light and shadow map, which must outlive it and not change meanwhile.
+class SurfaceShader {
+ public:
+  explicit SurfaceShader(const ShadingInputs& in);
+  glm::vec4 shade(const Material& material, const SurfaceSample& surface) const;
+
+ private:
+  const Scene* scene_;
+  const LightEnvironment* light_;
+  const ShadowMap* shadow_;  // null when unshadowed
+  glm::dvec3 camera_position_;
+  glm::vec3 sun_direction_;  // unit
+  ShLighting ambient_;
+};
 
 }  // namespace cr

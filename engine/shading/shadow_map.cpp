@@ -25,6 +25,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "engine/shading/small_floor.h"
+
 namespace cr {
 namespace {
 
@@ -134,12 +136,25 @@ float ShadowMap::visibility(const glm::vec3& world_pos, const glm::vec3& normal)
   // visibility varies continuously as the point moves.
   const float tx = (clip.x * 0.5f + 0.5f) * float(size) - 0.5f;
   const float ty = (0.5f - clip.y * 0.5f) * float(size) - 0.5f;
-  const float fx = std::floor(tx);
-  const float fy = std::floor(ty);
-  const float ax = tx - fx;
-  const float ay = ty - fy;
-  const int x0 = int(fx);
-  const int y0 = int(fy);
+  // |clip.x|, |clip.y| <= 1: small, finite texel coordinates.
+  const int x0 = floor_to_int(tx);
+  const int y0 = floor_to_int(ty);
+  const float ax = tx - float(x0);
+  const float ay = ty - float(y0);
+  // Taps wholly inside the map (nearly every point) need no border test, and
+  // where all of them agree (all but the penumbra) the weights do not matter:
+  // the weighted sums below would come out exactly 1 or 0.
+  if (x0 - r >= 0 && y0 - r >= 0 && x0 + r + 1 < size && y0 + r + 1 < size) {
+    int lit_taps = 0;
+    for (int y = y0 - r; y <= y0 + r + 1; ++y) {
+      const float* row = &depth[size_t(y) * size_t(size)];
+      for (int x = x0 - r; x <= x0 + r + 1; ++x) lit_taps += row[x] <= receiver ? 1 : 0;
+    }
+    if (lit_taps == (2 * r + 2) * (2 * r + 2)) return 1.0f;
+    // All shadowed: the weights are products of per-axis weights >= 0 that
+    // sum to at least 1 per axis, so the shadowed sum is positive, lit zero.
+    if (lit_taps == 0) return 0.0f;
+  }
   float lit = 0.0f;
   float shadowed = 0.0f;
   for (int dy = -r; dy <= r + 1; ++dy) {

@@ -22,7 +22,7 @@ glm::vec3 orthogonal_tangent(const glm::vec3& n) {
 }
 
 SurfaceSample interpolate_surface(const Primitive& primitive, const Draw& draw, uint32_t triangle_index,
-                                  const Barycentrics& bary, bool front_facing) {
+                                  const Barycentrics& bary, bool front_facing, bool with_tangent) {
   const uint32_t idx[3] = {primitive.indices[size_t(triangle_index) * 3], primitive.indices[size_t(triangle_index) * 3 + 1],
                            primitive.indices[size_t(triangle_index) * 3 + 2]};
   const glm::vec3& w = bary.b;
@@ -30,27 +30,32 @@ SurfaceSample interpolate_surface(const Primitive& primitive, const Draw& draw, 
   s.front_facing = front_facing;
   s.position = glm::vec3(draw.world * glm::vec4(interpolate(primitive.positions, idx, w), 1.0f));
 
-  // The geometric normal backs up missing or degenerate shading normals; a
-  // mirrored draw reverses the world-space winding, hence the sign.
+  // The geometric normal backs up missing or degenerate shading normals (so
+  // it is only computed then); a mirrored draw reverses the world-space
+  // winding, hence the sign.
   const glm::mat3 world3(draw.world);
-  const glm::vec3 e1 = world3 * (primitive.positions[idx[1]] - primitive.positions[idx[0]]);
-  const glm::vec3 e2 = world3 * (primitive.positions[idx[2]] - primitive.positions[idx[0]]);
-  const glm::vec3 geometric =
-      normalize_or(glm::cross(e1, e2) * (draw.mirrored ? -1.0f : 1.0f), glm::vec3(0.0f, 1.0f, 0.0f));
+  auto geometric_normal = [&] {
+    const glm::vec3 e1 = world3 * (primitive.positions[idx[1]] - primitive.positions[idx[0]]);
+    const glm::vec3 e2 = world3 * (primitive.positions[idx[2]] - primitive.positions[idx[0]]);
+    return normalize_or(glm::cross(e1, e2) * (draw.mirrored ? -1.0f : 1.0f), glm::vec3(0.0f, 1.0f, 0.0f));
+  };
   s.normal = primitive.normals.empty()
-                 ? geometric
-                 : normalize_or(draw.normal_matrix * interpolate(primitive.normals, idx, w), geometric);
+                 ? geometric_normal()
+                 : normalize_or_else(draw.normal_matrix * interpolate(primitive.normals, idx, w), geometric_normal);
 
-  glm::vec3 tangent(0.0f);
-  float bitangent_sign = 1.0f;
-  if (!primitive.tangents.empty()) {
-    const glm::vec4 t = interpolate(primitive.tangents, idx, w);
-    tangent = world3 * glm::vec3(t);
-    bitangent_sign = (primitive.tangents[idx[0]].w < 0.0f ? -1.0f : 1.0f) * (draw.mirrored ? -1.0f : 1.0f);
+  if (with_tangent) {
+    glm::vec3 tangent(0.0f);
+    float bitangent_sign = 1.0f;
+    if (!primitive.tangents.empty()) {
+      const glm::vec4 t = interpolate(primitive.tangents, idx, w);
+      tangent = world3 * glm::vec3(t);
+      bitangent_sign = (primitive.tangents[idx[0]].w < 0.0f ? -1.0f : 1.0f) * (draw.mirrored ? -1.0f : 1.0f);
+    }
+    // Gram-Schmidt against the interpolated normal.
+    tangent = normalize_or_else(tangent - s.normal * glm::dot(s.normal, tangent),
+                                [&s] { return orthogonal_tangent(s.normal); });
+    s.tangent = glm::vec4(tangent, bitangent_sign);
   }
-  // Gram-Schmidt against the interpolated normal.
-  tangent = normalize_or(tangent - s.normal * glm::dot(s.normal, tangent), orthogonal_tangent(s.normal));
-  s.tangent = glm::vec4(tangent, bitangent_sign);
 
   if (!primitive.texcoords.empty()) {
     s.uv = interpolate(primitive.texcoords, idx, w);
@@ -63,7 +68,7 @@ SurfaceSample interpolate_surface(const Primitive& primitive, const Draw& draw, 
     // Flip the whole frame (N, T and B = cross(N, T) * w) so a normal map
     // reads the same from the back as from the front.
     s.normal = -s.normal;
-    s.tangent = glm::vec4(-tangent, -bitangent_sign);
+    if (with_tangent) s.tangent = -s.tangent;
   }
   return s;
 }

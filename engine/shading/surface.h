@@ -29,8 +29,10 @@ struct SurfaceSample {
 // an arbitrary tangent orthogonal to the normal. A back face flips the normal
 // and tangent frame: the rasterizer culls back faces of single-sided
 // materials (glTF), so a back face here belongs to a double-sided one.
+// with_tangent = false skips the tangent frame (SurfaceSample::tangent keeps
+// its default) for materials without a normal map, the only reader of it.
 SurfaceSample interpolate_surface(const Primitive& primitive, const Draw& draw, uint32_t triangle_index,
-                                  const Barycentrics& bary, bool front_facing);
+                                  const Barycentrics& bary, bool front_facing, bool with_tangent = true);
 
 // A unit tangent orthogonal to unit n, continuous except where n.z changes
 // sign (Duff et al. 2017, "Building an Orthonormal Basis, Revisited").

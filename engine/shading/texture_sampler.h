@@ -23,6 +23,10 @@ glm::vec4 fetch_texel(const Image& image, int level, int x, int y);
 glm::vec4 sample_level(const Image& image, int level, glm::vec2 uv, Filter filter, Wrap wrap_s,
                        Wrap wrap_t);
 
+// Lookup at a given level of detail (texture_lod's lambda): lookups of
+// several images of one base size at one surface point share the LOD.
+glm::vec4 sample_texture_at_lod(const Image& image, const Sampler& sampler, glm::vec2 uv, float lambda);
+
 // Full lookup: LOD from the screen-space UV derivatives (UV units per pixel),
 // clamped to the chain, then the sampler's filters. Returns linear RGBA; an
 // image without levels reads as opaque white, the neutral factor.

@@ -81,3 +81,20 @@ TEST_CASE("SH: projection is deterministic") {
   const ShCoefficients a = sh_project(sky), b = sh_project(sky);
   for (size_t i = 0; i < 9; ++i) CHECK(a[i] == b[i]);
 }
+
+TEST_CASE("SH: ShLighting gives sh_radiance and sh_irradiance bit for bit") {
+  ShCoefficients ringing = sh_constant_radiance(glm::vec3(3.0f, 2.0f, 1.0f));
+  for (size_t i = 1; i < 9; ++i) ringing[i] = glm::vec3(0.3f * float(i), -0.2f * float(i), 0.1f);
+  // The second set takes ShLighting's constant-radiance path.
+  for (const ShCoefficients& c : {ringing, sh_constant_radiance(glm::vec3(1000.0f, 20.0f, 0.5f))}) {
+    const ShLighting lighting(c);
+    for (const glm::vec3& d : test_directions()) {
+      const glm::vec3 r = lighting.radiance(d), e = lighting.irradiance(d);
+      const glm::vec3 r_ref = sh_radiance(c, d), e_ref = sh_irradiance(c, d);
+      for (int k = 0; k < 3; ++k) {
+        CHECK(r[k] == r_ref[k]);
+        CHECK(e[k] == e_ref[k]);
+      }
+    }
+  }
+}

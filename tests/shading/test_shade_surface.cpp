@@ -186,3 +186,34 @@ TEST_CASE("shade: no NaN for degenerate normals, grazing views or a camera on th
     }
   }
 }
+
+TEST_CASE("shade: one SurfaceShader reused over many points gives shade_surface's results bit for bit") {
+  Scene scene;
+  scene.images.push_back(texel_image(200, 90, 30, 255, true));
+  LightEnvironment light;
+  light.sun_direction = glm::vec3(0.3f, 0.8f, -0.2f);  // not unit: the shader normalises it once
+  light.sun_illuminance = glm::vec3(9e4f, 8e4f, 7e4f);
+  for (const bool constant_sky : {true, false}) {
+    light.ambient_sh = sh_constant_radiance(glm::vec3(2000.0f, 2500.0f, 3000.0f));
+    if (!constant_sky) light.ambient_sh[2] = glm::vec3(400.0f, 300.0f, -100.0f);
+    ShadowMap shadow = fit_shadow_map(Camera::look_at({0, 2, 5}, {0, 0, 0}, 1.0f, 1.0f, 0.1f),
+                                      glm::normalize(light.sun_direction), 20.0f, 64, 1, glm::vec3(-10.0f),
+                                      glm::vec3(10.0f));
+    // An occluder over half of the map: lit, shadowed and penumbra points.
+    for (size_t i = 0; i < shadow.depth.size(); ++i) shadow.depth[i] = (i % 64) < 32 ? 1.0f : 0.0f;
+    const ShadingInputs in{&scene, &light, &shadow, glm::dvec3(1.0, 3.0, 4.0)};
+    const SurfaceShader shader(in);
+    Material m;
+    m.base_color.image = 0;
+    m.metallic_factor = 0.2f;
+    m.roughness_factor = 0.6f;
+    for (int i = 0; i < 64; ++i) {
+      SurfaceSample s = flat_sample();
+      s.position = glm::vec3(-8.0f + 0.25f * float(i), 0.0f, 0.1f * float(i % 7));
+      s.normal = glm::normalize(glm::vec3(0.1f * float(i % 5) - 0.2f, 1.0f, 0.05f * float(i % 3)));
+      const glm::vec4 a = shader.shade(m, s);
+      const glm::vec4 b = shade_surface(in, m, s);
+      CHECK(a == b);
+    }
+  }
+}

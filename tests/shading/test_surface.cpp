@@ -135,3 +135,30 @@ TEST_CASE("surface: missing streams take defaults; degenerate input stays finite
     CHECK(std::abs(glm::dot(t, n)) < 1e-6f);
   }
 }
+
+TEST_CASE("surface: skipping the tangent frame leaves every other attribute unchanged") {
+  const Primitive p = unit_triangle();
+  Primitive no_normals = p;
+  no_normals.normals.clear();
+  const Draw d = make_draw(glm::rotate(glm::scale(glm::mat4(1.0f), glm::vec3(1, -2, 3)), 0.7f, glm::vec3(1, 1, 0)));
+  Barycentrics b;
+  b.b = {0.25f, 0.35f, 0.4f};
+  b.ddx = {-0.02f, 0.01f, 0.01f};
+  b.ddy = {0.0f, -0.03f, 0.03f};
+  for (const Primitive* prim : {&p, static_cast<const Primitive*>(&no_normals)}) {
+    for (bool front : {true, false}) {
+      const SurfaceSample full = interpolate_surface(*prim, d, 0, b, front);
+      const SurfaceSample lean = interpolate_surface(*prim, d, 0, b, front, false);
+      for (int i = 0; i < 3; ++i) {
+        CHECK(lean.position[i] == full.position[i]);
+        CHECK(lean.normal[i] == full.normal[i]);
+      }
+      CHECK(lean.uv == full.uv);
+      CHECK(lean.duv_dx == full.duv_dx);
+      CHECK(lean.duv_dy == full.duv_dy);
+      CHECK(lean.color == full.color);
+      CHECK(lean.front_facing == full.front_facing);
+      CHECK(lean.tangent == SurfaceSample{}.tangent);
+    }
+  }
+}

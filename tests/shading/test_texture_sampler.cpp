@@ -1,8 +1,10 @@
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
+#include "engine/shading/small_floor.h"
 #include "engine/shading/srgb.h"
 #include "engine/shading/texture_sampler.h"
 
@@ -157,4 +159,54 @@ TEST_CASE("sRGB images decode through the table; the table round-trips every cod
   CHECK(c.g == table[64]);
   CHECK(c.b == table[255]);
   CHECK(c.a == doctest::Approx(128.0f / 255.0f));  // alpha is always linear
+}
+
+TEST_CASE("floor_to_int equals std::floor on small finite values") {
+  for (float x : {0.0f, -0.0f, 0.5f, -0.5f, 1.0f, -1.0f, 0.999999f, -0.999999f, 1e-30f, -1e-30f, 255.5f, -256.0f,
+                  8388607.5f, -8388607.5f, 16777216.0f, -2147483520.0f}) {
+    CHECK(floor_to_int(x) == int(std::floor(x)));
+  }
+}
+
+// The OpenGL wrap formula for any integer index, as written in the specification.
+int reference_wrap(int i, int n, Wrap wrap) {
+  if (wrap == Wrap::ClampToEdge) return std::clamp(i, 0, n - 1);
+  if (wrap == Wrap::Repeat) return ((i % n) + n) % n;
+  const int m = ((i % (2 * n)) + 2 * n) % (2 * n);
+  return m < n ? m : 2 * n - 1 - m;
+}
+
+TEST_CASE("sample_level matches the specification's formulas bit for bit at and across the edges") {
+  // Odd sizes and distinct texels, so that a wrong texel or weight shows.
+  Image img;
+  img.srgb = true;
+  MipLevel m;
+  m.width = 13;
+  m.height = 7;
+  for (int i = 0; i < 13 * 7 * 4; ++i) m.rgba.push_back(uint8_t((i * 37 + 11) % 256));
+  img.mips.push_back(m);
+  auto texel = [&](int x, int y) { return fetch_texel(img, 0, x, y); };
+  for (Wrap wrap : {Wrap::Repeat, Wrap::ClampToEdge, Wrap::MirroredRepeat}) {
+    for (float u : {-3.96f, -1.0f, -0.5f, -0.01f, 0.0f, 0.02f, 0.3f, 0.5f, 0.97f, 1.0f, 1.04f, 2.5f, 7.31f}) {
+      const float v = 1.0f - 0.9f * u;
+      // Coordinates within the reduced ranges the sampler relies on.
+      const float ru = wrap == Wrap::ClampToEdge ? std::clamp(u, -1.0f, 2.0f)
+                       : wrap == Wrap::Repeat    ? u - std::floor(u)
+                                                 : u - 2.0f * std::floor(0.5f * u);
+      const float rv = wrap == Wrap::ClampToEdge ? std::clamp(v, -1.0f, 2.0f)
+                       : wrap == Wrap::Repeat    ? v - std::floor(v)
+                                                 : v - 2.0f * std::floor(0.5f * v);
+      const float fx = ru * 13.0f - 0.5f, fy = rv * 7.0f - 0.5f;
+      const int x0 = int(std::floor(fx)), y0 = int(std::floor(fy));
+      const float ax = fx - std::floor(fx), ay = fy - std::floor(fy);
+      const int xa = reference_wrap(x0, 13, wrap), xb = reference_wrap(x0 + 1, 13, wrap);
+      const int ya = reference_wrap(y0, 7, wrap), yb = reference_wrap(y0 + 1, 7, wrap);
+      const glm::vec4 expected = glm::mix(glm::mix(texel(xa, ya), texel(xb, ya), ax),
+                                          glm::mix(texel(xa, yb), texel(xb, yb), ax), ay);
+      CHECK(sample_level(img, 0, {u, v}, Filter::Linear, wrap, wrap) == expected);
+      const glm::vec4 nearest = texel(reference_wrap(int(std::floor(ru * 13.0f)), 13, wrap),
+                                      reference_wrap(int(std::floor(rv * 7.0f)), 7, wrap));
+      CHECK(sample_level(img, 0, {u, v}, Filter::Nearest, wrap, wrap) == nearest);
+    }
+  }
 }

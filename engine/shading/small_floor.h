@@ -1,0 +1,15 @@
+#pragma once
+// floor() for the texel and LOD coordinates of the inner shading loops.
+// Without SSE4.1 the compiler expands std::floor into a long sequence that
+// also handles huge values and NaN; these coordinates are known to be
+// finite and small, where a truncation and one compare give the same value.
+
+namespace cr {
+
+// floor(x) as an int, for finite x with |x| < 2^31. Equals int(std::floor(x)).
+inline int floor_to_int(float x) {
+  const int i = int(x);
+  return float(i) > x ? i - 1 : i;
+}
+
+}  // namespace cr
