@@ -1,5 +1,6 @@
 #include "engine/render/display_transform.h"
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <limits>
@@ -14,7 +15,12 @@ namespace {
 // The reference definition: one channel of resolve_pixel for an exposed value.
 uint8_t code_of_exposed(float e) { return quantize_unorm8(linear_to_srgb(tonemap_aces(e))); }
 
-constexpr int kBucketShift = 15;  // 2^(31-15) = 65536 buckets over non-negative float bit patterns
+// Buckets cover exposed values in [2^-24, 2^5) (below: code 0 for any sane
+// tonemap, checked at construction; above: the tonemap's shoulder is past 1)
+// with 10 mantissa bits each, so a bucket rarely spans more than one code.
+constexpr int kBucketShift = 13;
+constexpr uint32_t kLowBits = uint32_t(127 - 24) << 23;  // bit pattern of 2^-24
+constexpr uint32_t kHighBits = uint32_t(127 + 5) << 23;  // bit pattern of 2^5
 
 }  // namespace
 
@@ -33,9 +39,9 @@ DisplayTransform::DisplayTransform(float ev100) : ev100_(ev100), exposure_(expos
     threshold_[k] = std::bit_cast<float>(hi);
   }
   threshold_[256] = std::numeric_limits<float>::infinity();
-  bucket_code_.resize(size_t(1) << (31 - kBucketShift));
+  bucket_code_.resize(size_t((kHighBits - kLowBits) >> kBucketShift) + 1);
   for (size_t b = 0; b < bucket_code_.size(); ++b) {
-    const float start = std::bit_cast<float>(uint32_t(b << kBucketShift));
+    const float start = std::bit_cast<float>(kLowBits + uint32_t(b << kBucketShift));
     int code = 0;
     while (code < 255 && !(start < threshold_[code + 1])) ++code;
     bucket_code_[b] = uint8_t(code);
@@ -46,7 +52,8 @@ uint8_t DisplayTransform::encode(float radiance) const {
   const float e = radiance * exposure_;
   if (!(e > 0.0f)) return code_of_exposed(e);  // zero, negative and NaN
   if (!(e < std::numeric_limits<float>::infinity())) return code_of_exposed(e);
-  int code = bucket_code_[std::bit_cast<uint32_t>(e) >> kBucketShift];
+  const uint32_t bits = std::min(std::max(std::bit_cast<uint32_t>(e), kLowBits), kHighBits);
+  int code = bucket_code_[(bits - kLowBits) >> kBucketShift];
   while (code < 255 && !(e < threshold_[code + 1])) ++code;
   return uint8_t(code);
 }

@@ -2,7 +2,7 @@
 // The frame's display transform (exposure, ACES tonemap, sRGB, 8-bit) as a
 // table: the per-pixel definition in engine/shading/tonemap.h is a monotone
 // step function of the exposed value with 256 steps, so the code of a value
-// is found from a 65536-bucket index on its float bits plus at most a few
+// is found from a bucket index on its float bits plus at most a few
 // threshold compares. Results equal resolve_pixel() exactly (tested), at a
 // fraction of its cost (no pow/exp per channel).
 #include <array>
