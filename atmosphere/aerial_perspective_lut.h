@@ -1,0 +1,56 @@
+#pragma once
+// LUT 4: aerial perspective froxels over the camera frustum: width x height
+// columns through pixel-aligned directions, depth slices at squared distances
+// t_s = ((s + 0.5)/depth)^2 * depth * km_per_slice. Each froxel stores the
+// in-scattered luminance (unit sun illuminance) and the transmittance from the
+// camera to its slice. A column is marched once, front to back, accumulating
+// slice by slice; samples under the ground are pushed 10 m above it.
+#include <cstddef>
+
+#include <glm/glm.hpp>
+
+#include "atmosphere/lut_image.h"
+#include "atmosphere/scattering_march.h"
+
+namespace cr {
+
+// The camera a froxel volume was built for, in planet-centred coordinates.
+struct FroxelCamera {
+  glm::dvec3 position{0.0};  // relative to the planet centre
+  glm::vec3 forward{0.0f, 0.0f, -1.0f};
+  glm::vec3 up{0.0f, 1.0f, 0.0f};
+  glm::vec3 right{1.0f, 0.0f, 0.0f};
+  float tan_half_fov = 0.57735f;
+  float aspect = 1.0f;
+  glm::vec3 sun_direction{0.0f, 1.0f, 0.0f};
+  // Direction of froxel column (x, y) of a w x h grid (same rule as Camera::ray_direction).
+  glm::vec3 column_direction(float px, float py, int w, int h) const;
+};
+
+class AerialPerspectiveLut {
+ public:
+  AerialPerspectiveLut() = default;
+  AerialPerspectiveLut(int width, int height, int depth, float km_per_slice, int steps_per_slice,
+                       const FroxelCamera& camera);
+
+  void bake(size_t begin, size_t end, const AtmosphereLuts& luts);  // columns [begin, end) (x fastest)
+  size_t column_count() const { return size_t(luminance_.width) * luminance_.height; }
+
+  float slice_distance(int slice) const;        // metres from the camera to slice `slice`
+  float slice_coordinate(float distance) const;  // inverse: fractional slice index (may be < 0 or > depth-1)
+  float range() const { return slice_distance(luminance_.depth - 1); }
+  float extent() const { return float(luminance_.depth) * km_per_slice_ * 1000.0f; }  // depth * km_per_slice
+
+  const LutImage& luminance() const { return luminance_; }
+  const LutImage& transmittance() const { return transmittance_; }
+  const FroxelCamera& camera() const { return camera_; }
+
+ private:
+  float km_per_slice_ = 4.0f;
+  int steps_per_slice_ = 2;
+  FroxelCamera camera_;
+  LutImage luminance_;
+  LutImage transmittance_;
+};
+
+}  // namespace cr

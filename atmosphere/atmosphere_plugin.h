@@ -1,0 +1,52 @@
+#pragma once
+// The atmosphere as an engine plugin: Hillaire 2020 sky, sun and aerial
+// perspective with amortised LUT updates (see lut_scheduler.h).
+//
+// Passes (each added only in frames where its LUT has work):
+//   atmosphere.transmittance       writes atmosphere.transmittance
+//   atmosphere.multiscattering     reads transmittance, writes atmosphere.multiscattering
+//   atmosphere.skyview             reads both, writes atmosphere.skyview
+//   atmosphere.aerial_perspective  reads both, writes atmosphere.aerial_perspective
+// and every frame:
+//   atmosphere.lighting            reads the LUTs, writes light_environment
+//   atmosphere.sky                 reads the LUTs, writes atmosphere.sky (the composite's input)
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "atmosphere/atmosphere_model.h"
+#include "atmosphere/atmosphere_settings.h"
+#include "atmosphere/lut_scheduler.h"
+#include "atmosphere/planet_frame.h"
+#include "atmosphere/sky_frame.h"
+#include "engine/render/plugin.h"
+
+namespace cr {
+
+class AtmospherePlugin : public Plugin {
+ public:
+  std::string name() const override { return "atmosphere"; }
+  bool configure(const Scene& scene, const SceneDescription& description, const Profile& profile) override;
+  void add_passes(FrameGraph& graph, FrameContext& ctx) override;
+  std::vector<std::string> composite_reads() const override { return {"atmosphere.sky"}; }
+  int composite_order() const override { return 100; }
+  bool has_composite() const override { return true; }
+  void composite(const FrameContext& ctx, int x0, int y0, int x1, int y1) override;
+  void report_frame(nlohmann::json& frame) override;
+
+  const LutScheduler* scheduler() const { return scheduler_.get(); }
+  const SkyFrame& sky_frame() const { return sky_; }
+
+ private:
+  AtmosphereSceneConfig scene_;
+  AtmosphereSettings settings_;
+  std::unique_ptr<LutScheduler> scheduler_;
+  AtmospherePlan plan_;
+  SkyFrame sky_;
+};
+
+// Adds the "atmosphere" plugin factory and the sky-* commands.
+void register_atmosphere_plugin(PluginRegistry& registry);
+
+}  // namespace cr

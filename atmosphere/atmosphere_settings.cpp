@@ -1,0 +1,82 @@
+#include "atmosphere/atmosphere_settings.h"
+
+#include "atmosphere/config_fields.h"
+
+namespace cr {
+
+const char* lut_name(LutKind kind) {
+  switch (kind) {
+    case LutKind::Transmittance: return "transmittance";
+    case LutKind::MultiScattering: return "multiscattering";
+    case LutKind::SkyView: return "skyview";
+    case LutKind::AerialPerspective: return "aerial_perspective";
+  }
+  return "?";
+}
+
+AtmosphereSettings parse_atmosphere_settings(const nlohmann::json& section, const std::string& file) {
+  AtmosphereSettings s;
+  ConfigFields f(section, file, "atmosphere");
+
+  ConfigFields t = f.object("transmittance_lut");
+  s.transmittance_width = t.integer("width", s.transmittance_width, 4, 4096);
+  s.transmittance_height = t.integer("height", s.transmittance_height, 4, 4096);
+  s.transmittance_steps = t.integer("steps", s.transmittance_steps, 1, 4096);
+  t.finish();
+
+  ConfigFields ms = f.object("multiscattering_lut");
+  s.multiscattering_size = ms.integer("size", s.multiscattering_size, 4, 1024);
+  s.multiscattering_directions = ms.integer("directions", s.multiscattering_directions, 4, 4096);
+  s.multiscattering_steps = ms.integer("steps", s.multiscattering_steps, 1, 4096);
+  s.multiscattering_max_fms = float(ms.number("max_fms", s.multiscattering_max_fms, 0.0, 0.999));
+  {
+    int n = 1;
+    while (n * n < s.multiscattering_directions) ++n;
+    if (n * n != s.multiscattering_directions || n % 2 != 0)
+      ms.fail("directions", "must be n*n with n even (stratified, mirror-symmetric about the sun plane), e.g. 64");
+  }
+  ms.finish();
+
+  ConfigFields sv = f.object("skyview_lut");
+  s.skyview_width = sv.integer("width", s.skyview_width, 4, 4096);
+  s.skyview_height = sv.integer("height", s.skyview_height, 4, 4096);
+  if (s.skyview_height % 2 != 0)
+    sv.fail("height", "must be even (the horizon lies between the two middle rows)");
+  s.skyview_min_steps = sv.integer("min_steps", s.skyview_min_steps, 1, 1024);
+  s.skyview_max_steps = sv.integer("max_steps", s.skyview_max_steps, 1, 1024);
+  if (s.skyview_max_steps < s.skyview_min_steps) sv.fail("max_steps", "must be >= min_steps");
+  sv.finish();
+
+  ConfigFields ap = f.object("aerial_perspective_lut");
+  s.ap_width = ap.integer("width", s.ap_width, 2, 512);
+  s.ap_height = ap.integer("height", s.ap_height, 2, 512);
+  s.ap_depth = ap.integer("depth", s.ap_depth, 2, 512);
+  s.ap_km_per_slice = float(ap.number("km_per_slice", s.ap_km_per_slice, 0.001, 1000.0));
+  s.ap_steps_per_slice = ap.integer("steps_per_slice", s.ap_steps_per_slice, 1, 64);
+  ap.finish();
+
+  ConfigFields sched = f.object("schedule");
+  s.full_schedule = sched.boolean("full", s.full_schedule);
+  for (int k = 0; k < kLutKinds; ++k) {
+    ConfigFields one = sched.object(lut_name(LutKind(k)));
+    LutSchedule& ls = s.schedule[size_t(k)];
+    ls.period = one.integer("period", ls.period, 1, 100000);
+    ls.slices = one.integer("slices", ls.slices, 1, 1024);
+    if (ls.slices > ls.period) one.fail("slices", "must be <= period (a rebuild must finish before the next starts)");
+    one.finish();
+  }
+  sched.finish();
+
+  ConfigFields inv = f.object("invalidation");
+  s.invalidate_sun_deg = float(inv.number("sun_deg", s.invalidate_sun_deg, 0.0, 180.0));
+  s.invalidate_camera_m = float(inv.number("camera_m", s.invalidate_camera_m, 0.0, 1e9));
+  s.invalidate_camera_deg = float(inv.number("camera_deg", s.invalidate_camera_deg, 0.0, 180.0));
+  inv.finish();
+
+  s.space_altitude = f.number("space_fallback_altitude_m", s.space_altitude, 0.0, 1e9);
+  s.space_steps = f.integer("space_march_steps", s.space_steps, 1, 4096);
+  f.finish();
+  return s;
+}
+
+}  // namespace cr

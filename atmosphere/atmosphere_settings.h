@@ -1,0 +1,56 @@
+#pragma once
+// The profile's "atmosphere" section: LUT sizes, sample counts, per-LUT update
+// schedules, invalidation thresholds and the space fallback. Defaults are the
+// desktop values (Hillaire 2020 reference sizes, the seed's update periods).
+#include <array>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+namespace cr {
+
+enum class LutKind { Transmittance = 0, MultiScattering = 1, SkyView = 2, AerialPerspective = 3 };
+inline constexpr int kLutKinds = 4;
+const char* lut_name(LutKind kind);  // "transmittance", "multiscattering", "skyview", "aerial_perspective"
+
+struct LutSchedule {
+  int period = 1;  // frames between the starts of two periodic refreshes
+  int slices = 1;  // frames one rebuild is spread over (1 = whole LUT in one frame)
+};
+
+struct AtmosphereSettings {
+  int transmittance_width = 256;
+  int transmittance_height = 64;
+  int transmittance_steps = 40;
+
+  int multiscattering_size = 32;
+  int multiscattering_directions = 64;  // n*n stratified directions, n even
+  int multiscattering_steps = 20;
+  float multiscattering_max_fms = 0.95f;  // clamp of the series ratio: 1/(1 - f_ms) <= 20
+
+  int skyview_width = 192;
+  int skyview_height = 108;
+  int skyview_min_steps = 4;
+  int skyview_max_steps = 14;
+
+  int ap_width = 32;
+  int ap_height = 32;
+  int ap_depth = 32;
+  float ap_km_per_slice = 4.0f;
+  int ap_steps_per_slice = 2;
+
+  std::array<LutSchedule, kLutKinds> schedule{{{16, 1}, {16, 1}, {4, 1}, {6, 1}}};
+  bool full_schedule = false;  // rebuild all four LUTs every frame
+
+  float invalidate_sun_deg = 0.5f;     // sun zenith/direction change that forces sky-view and AP rebuilds
+  float invalidate_camera_m = 50.0f;   // camera move (altitude for sky-view, position for AP)
+  float invalidate_camera_deg = 5.0f;  // camera rotation or fov change (AP)
+
+  double space_altitude = 100e3;  // above this camera altitude: per-pixel ray marching, no sky-view/AP
+  int space_steps = 24;           // steps of the per-pixel march (also used beyond the AP range)
+};
+
+// Throws InputError(file, "atmosphere.<field>: ...").
+AtmosphereSettings parse_atmosphere_settings(const nlohmann::json& section, const std::string& file);
+
+}  // namespace cr

@@ -1,0 +1,327 @@
+#include "atmosphere/lut_scheduler.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+namespace cr {
+
+namespace {
+
+double angle_deg(const glm::vec3& a, const glm::vec3& b) {
+  const double c = std::clamp(double(glm::dot(a, b)), -1.0, 1.0);
+  return std::acos(c) * 180.0 / M_PI;
+}
+
+double sun_zenith_deg(const FroxelCamera& c) {
+  const glm::dvec3 up = c.position / glm::length(c.position);
+  const double mu = std::clamp(glm::dot(glm::dvec3(c.sun_direction), up), -1.0, 1.0);
+  return std::acos(mu) * 180.0 / M_PI;
+}
+
+}  // namespace
+
+double AtmosphereFrameInputs::radius() const { return glm::length(camera.position); }
+double AtmosphereFrameInputs::altitude() const { return radius() - ground_radius; }
+
+size_t slice_begin(size_t items, size_t granule, int s, int slices) {
+  const size_t units = (items + granule - 1) / granule;
+  return std::min(items, units * size_t(s) / size_t(slices) * granule);
+}
+
+LutScheduler::LutScheduler(const AtmosphereSettings& settings) : settings_(settings) {}
+
+void LutScheduler::set_model(const AtmosphereModel& model) {
+  if (model == model_) return;
+  model_ = model;
+  ++model_version_;
+}
+
+uint64_t LutScheduler::version(LutKind kind) const {
+  switch (kind) {
+    case LutKind::Transmittance: return t_.version;
+    case LutKind::MultiScattering: return ms_.version;
+    case LutKind::SkyView: return sv_.version;
+    case LutKind::AerialPerspective: return ap_.version;
+  }
+  return 0;
+}
+
+std::string LutScheduler::invalidation(LutKind kind, const AtmosphereFrameInputs& in, bool against_back,
+                                       uint64_t upstream_now) const {
+  const double top = model_.atmosphere_height();
+  switch (kind) {
+    case LutKind::Transmittance:
+      return (against_back ? t_.b_upstream : t_.f_upstream) != model_version_ ? "params" : "";
+    case LutKind::MultiScattering:
+      return (against_back ? ms_.b_upstream : ms_.f_upstream) != upstream_now ? "upstream" : "";
+    case LutKind::SkyView: {
+      if ((against_back ? sv_.b_upstream : sv_.f_upstream) != upstream_now) return "upstream";
+      const FroxelCamera& c = against_back ? sv_.b_camera : sv_.f_camera;
+      const double alt_then = std::clamp(glm::length(c.position) - model_.bottom_radius, 0.0, top);
+      const double alt_now = std::clamp(in.altitude(), 0.0, top);
+      if (std::abs(alt_now - alt_then) > settings_.invalidate_camera_m) return "camera";
+      if (std::abs(sun_zenith_deg(c) - sun_zenith_deg(in.camera)) > settings_.invalidate_sun_deg) return "sun";
+      return "";
+    }
+    case LutKind::AerialPerspective: {
+      if ((against_back ? ap_.b_upstream : ap_.f_upstream) != upstream_now) return "upstream";
+      const FroxelCamera& c = against_back ? ap_.b_camera : ap_.f_camera;
+      if (glm::length(c.position - in.camera.position) > settings_.invalidate_camera_m) return "camera";
+      if (angle_deg(c.forward, in.camera.forward) > settings_.invalidate_camera_deg ||
+          angle_deg(c.up, in.camera.up) > settings_.invalidate_camera_deg)
+        return "camera";
+      if (c.tan_half_fov != in.camera.tan_half_fov || c.aspect != in.camera.aspect) return "camera";
+      if (angle_deg(c.sun_direction, in.camera.sun_direction) > settings_.invalidate_sun_deg) return "sun";
+      return "";
+    }
+  }
+  return "";
+}
+
+bool LutScheduler::drifted(LutKind kind, const AtmosphereFrameInputs& in) const {
+  const FroxelCamera& now = in.camera;
+  switch (kind) {
+    case LutKind::Transmittance:
+    case LutKind::MultiScattering:
+      return false;  // depend only on the parameters, which invalidate exactly
+    case LutKind::SkyView: {
+      const FroxelCamera& c = sv_.f_camera;
+      const double top = model_.atmosphere_height();
+      return std::clamp(glm::length(c.position) - model_.bottom_radius, 0.0, top) !=
+                 std::clamp(in.altitude(), 0.0, top) ||
+             sun_zenith_deg(c) != sun_zenith_deg(now);
+    }
+    case LutKind::AerialPerspective: {
+      const FroxelCamera& c = ap_.f_camera;
+      return c.position != now.position || c.forward != now.forward || c.up != now.up ||
+             c.sun_direction != now.sun_direction;
+    }
+  }
+  return false;
+}
+
+LutWork LutScheduler::decide(LutKind kind, const AtmosphereFrameInputs& in, bool space,
+                             const AtmospherePlan& so_far) const {
+  LutWork w;
+  const size_t k = size_t(kind);
+  const LutSchedule& sched = settings_.schedule[k];
+  if (space && (kind == LutKind::SkyView || kind == LutKind::AerialPerspective)) return w;
+
+  bool has_front = false, in_progress = false;
+  int next_slice = 0, slices = 1, last_start = 0;
+  std::string current_cause;
+  uint64_t upstream_now = model_version_;
+  bool upstream_ready = true;
+  auto fill = [&](const auto& slot) {
+    has_front = slot.front != nullptr;
+    in_progress = slot.back != nullptr;
+    next_slice = slot.next_slice;
+    slices = slot.slices;
+    last_start = slot.last_start;
+    current_cause = slot.b_cause;
+  };
+  switch (kind) {
+    case LutKind::Transmittance: fill(t_); break;
+    case LutKind::MultiScattering:
+      fill(ms_);
+      upstream_now = t_.version + (so_far.work[0].publishes ? 1 : 0);
+      upstream_ready = upstream_now > 0;
+      break;
+    case LutKind::SkyView:
+    case LutKind::AerialPerspective:
+      if (kind == LutKind::SkyView) fill(sv_); else fill(ap_);
+      upstream_now = ms_.version + (so_far.work[1].publishes ? 1 : 0);
+      upstream_ready = upstream_now > 0;
+      break;
+  }
+  if (!upstream_ready) return w;
+
+  auto start = [&](const std::string& cause, bool whole) {
+    w.active = true;
+    w.restart = true;
+    w.slices = whole ? 1 : sched.slices;
+    w.slice = 0;
+    w.slice_end = 1;
+    w.publishes = w.slice_end == w.slices;
+    w.cause = cause;
+    return w;
+  };
+  if (settings_.full_schedule) return start("full", true);
+  if (!has_front && !in_progress) return start("initial", true);
+  if (in_progress) {
+    const std::string cause = invalidation(kind, in, true, upstream_now);
+    if (!cause.empty()) return start(cause, false);
+    w.active = true;
+    w.slices = slices;
+    w.slice = next_slice;
+    w.slice_end = next_slice + 1;
+    w.publishes = w.slice_end == slices;
+    w.cause = current_cause;
+    return w;
+  }
+  const std::string cause = invalidation(kind, in, false, upstream_now);
+  if (!cause.empty()) return start(cause, false);
+  if (so_far.frame - last_start >= sched.period && drifted(kind, in)) return start("periodic", false);
+  return w;
+}
+
+AtmospherePlan LutScheduler::plan(const AtmosphereFrameInputs& inputs) const {
+  AtmospherePlan p;
+  p.frame = inputs.frame;
+  p.inputs = inputs;
+  p.space = inputs.altitude() > settings_.space_altitude;
+  for (int k = 0; k < kLutKinds; ++k) p.work[size_t(k)] = decide(LutKind(k), inputs, p.space, p);
+  return p;
+}
+
+void LutScheduler::run_slices(LutKind kind, size_t items, size_t granule, int slice, int slice_end, int slices,
+                              JobSystem& jobs, const std::function<void(size_t, size_t)>& bake) {
+  const size_t begin = slice_begin(items, granule, slice, slices);
+  const size_t end = slice_begin(items, granule, slice_end, slices);
+  if (end > begin)
+    jobs.parallel_for(std::string("atmosphere.") + lut_name(kind), end - begin, granule,
+                      [&](size_t b, size_t e) { bake(begin + b, begin + e); });
+}
+
+void LutScheduler::run(LutKind kind, const AtmospherePlan& plan, JobSystem& jobs) {
+  const LutWork& w = plan.work[size_t(kind)];
+  Timing& timing = timing_[size_t(kind)];
+  timing.frame_ms = 0.0;
+  if (!w.active) return;
+  const auto t0 = std::chrono::steady_clock::now();
+  const AtmosphereSettings& s = settings_;
+  auto begin_rebuild = [&](auto& slot) {
+    slot.next_slice = 0;
+    slot.slices = w.slices;
+    slot.last_start = plan.frame;
+    slot.b_cause = w.cause;
+    slot.b_camera = plan.inputs.camera;
+    timing.building_ms = 0.0;
+  };
+  auto finish = [&](auto& slot) {
+    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    timing.frame_ms = ms;
+    timing.building_ms += ms;
+    slot.next_slice = w.slice_end;
+    if (slot.next_slice >= slot.slices) {
+      slot.front = slot.back;
+      slot.back.reset();
+      ++slot.version;
+      slot.f_upstream = slot.b_upstream;
+      slot.f_camera = slot.b_camera;
+      slot.built_from = slot.b_t;
+      timing.full_ms = timing.building_ms;
+    }
+  };
+  switch (kind) {
+    case LutKind::Transmittance: {
+      if (w.restart) {
+        begin_rebuild(t_);
+        t_.back = std::make_shared<TransmittanceLut>(model_, s.transmittance_width, s.transmittance_height,
+                                                     s.transmittance_steps);
+        t_.b_upstream = model_version_;
+      }
+      TransmittanceLut& lut = *t_.back;
+      run_slices(kind, lut.texel_count(), size_t(s.transmittance_width), w.slice, w.slice_end, t_.slices, jobs,
+                 [&](size_t b, size_t e) { lut.bake(b, e); });
+      finish(t_);
+      break;
+    }
+    case LutKind::MultiScattering: {
+      if (w.restart) {
+        begin_rebuild(ms_);
+        ms_.b_t = t_.front;
+        ms_.b_upstream = t_.version;
+        ms_.back = std::make_shared<MultiScatteringLut>(ms_.b_t->model(), s.multiscattering_size,
+                                                        s.multiscattering_directions, s.multiscattering_steps,
+                                                        s.multiscattering_max_fms);
+      }
+      MultiScatteringLut& lut = *ms_.back;
+      const TransmittanceLut& t = *ms_.b_t;
+      run_slices(kind, lut.texel_count(), size_t(s.multiscattering_size), w.slice, w.slice_end, ms_.slices, jobs,
+                 [&](size_t b, size_t e) { lut.bake(b, e, t); });
+      finish(ms_);
+      break;
+    }
+    case LutKind::SkyView: {
+      if (w.restart) {
+        begin_rebuild(sv_);
+        sv_.b_t = ms_.built_from;
+        sv_.b_ms = ms_.front;
+        sv_.b_upstream = ms_.version;
+        const glm::dvec3 up = plan.inputs.camera.position / plan.inputs.radius();
+        const float mu_s = float(std::clamp(glm::dot(glm::dvec3(plan.inputs.camera.sun_direction), up), -1.0, 1.0));
+        const double top = sv_.b_t->model().atmosphere_height();
+        const float altitude = float(std::clamp(plan.inputs.altitude(), 0.0, top));
+        sv_.back = std::make_shared<SkyViewLut>(s.skyview_width, s.skyview_height, s.skyview_min_steps,
+                                                s.skyview_max_steps, altitude, mu_s, sv_.b_t->model().bottom_radius);
+      }
+      SkyViewLut& lut = *sv_.back;
+      const AtmosphereLuts luts{sv_.b_t->model(), *sv_.b_t, *sv_.b_ms};
+      run_slices(kind, lut.texel_count(), size_t(s.skyview_width), w.slice, w.slice_end, sv_.slices, jobs,
+                 [&](size_t b, size_t e) { lut.bake(b, e, luts); });
+      finish(sv_);
+      break;
+    }
+    case LutKind::AerialPerspective: {
+      if (w.restart) {
+        begin_rebuild(ap_);
+        ap_.b_t = ms_.built_from;
+        ap_.b_ms = ms_.front;
+        ap_.b_upstream = ms_.version;
+        ap_.back = std::make_shared<AerialPerspectiveLut>(s.ap_width, s.ap_height, s.ap_depth, s.ap_km_per_slice,
+                                                          s.ap_steps_per_slice, plan.inputs.camera);
+      }
+      AerialPerspectiveLut& lut = *ap_.back;
+      const AtmosphereLuts luts{ap_.b_t->model(), *ap_.b_t, *ap_.b_ms};
+      run_slices(kind, lut.column_count(), size_t(s.ap_width), w.slice, w.slice_end, ap_.slices, jobs,
+                 [&](size_t b, size_t e) { lut.bake(b, e, luts); });
+      finish(ap_);
+      break;
+    }
+  }
+}
+
+void LutScheduler::run_all(const AtmospherePlan& plan, JobSystem& jobs) {
+  for (int k = 0; k < kLutKinds; ++k) run(LutKind(k), plan, jobs);
+}
+
+nlohmann::json LutScheduler::report(const AtmospherePlan& plan) const {
+  nlohmann::json j = nlohmann::json::object();
+  double amortised_total = 0.0, frame_total = 0.0;
+  for (int k = 0; k < kLutKinds; ++k) {
+    const LutWork& w = plan.work[size_t(k)];
+    const Timing& t = timing_[size_t(k)];
+    const LutSchedule& sched = settings_.schedule[size_t(k)];
+    const double period = settings_.full_schedule ? 1.0 : double(sched.period);
+    const double frame_ms = w.active ? t.frame_ms : 0.0;
+    nlohmann::json e = {{"updated", w.active},
+                        {"cause", w.cause},
+                        {"frame_ms", frame_ms},
+                        {"full_ms", t.full_ms},
+                        {"amortised_ms", t.full_ms / period},
+                        {"period", int(period)},
+                        {"slices", settings_.full_schedule ? 1 : sched.slices},
+                        {"version", version(LutKind(k))}};
+    if (w.active) {
+      e["slice"] = w.slice;
+      e["slice_count"] = w.slices;
+      e["published"] = w.publishes;
+      e["per_slice_ms"] = frame_ms / double(std::max(1, w.slice_end - w.slice));
+    }
+    amortised_total += t.full_ms / period;
+    frame_total += frame_ms;
+    j[lut_name(LutKind(k))] = e;
+  }
+  j["frame_ms"] = frame_total;
+  j["amortised_ms"] = amortised_total;
+  j["space_fallback"] = plan.space;
+  if (ms_.front) {
+    j["multiscattering_clamped_texels"] = ms_.front->clamped_texels();
+    j["multiscattering_max_fms"] = ms_.front->max_fms_seen();
+  }
+  return j;
+}
+
+}  // namespace cr

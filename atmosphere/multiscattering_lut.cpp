@@ -1,0 +1,162 @@
+#include "atmosphere/multiscattering_lut.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "atmosphere/atmosphere_density.h"
+#include "atmosphere/fast_math.h"
+#include "atmosphere/phase_functions.h"
+#include "atmosphere/planet_geometry.h"
+
+namespace cr {
+
+namespace {
+
+// One marched step of one direction: everything that does not depend on the sun.
+struct MarchStep {
+  float tx_over_r;  // horizontal offset / r at the sample (sun-plane component)
+  float y_over_r;   // vertical position / r at the sample
+  glm::vec3 weight; // throughput * scattering * (1 - T_step) / extinction
+  TransmittanceRow row;
+};
+
+// Directions and steps of one altitude, shared by all sun angles of a row.
+struct AltitudeMarch {
+  std::vector<MarchStep> steps;       // directions x steps
+  std::vector<glm::vec3> fms;         // per direction, sum of weights
+  std::vector<glm::vec3> ground_tp;   // per direction: throughput at the ground * albedo / pi (0: no hit)
+  std::vector<float> ground_x, ground_y;  // ground hit point / R
+  std::vector<TransmittanceRow> ground_row;
+  std::vector<float> dir_weight;
+};
+
+AltitudeMarch march_altitude(const AtmosphereModel& m, const TransmittanceLut& lut, float altitude,
+                             int directions, int steps) {
+  const int n = int(std::lround(std::sqrt(double(directions))));
+  const int half = n / 2;  // mirror symmetry about the sun plane: half the azimuths, weight 2
+  const double R = m.bottom_radius;
+  const DensityProfile profile(m);
+  const double r0 = R + double(altitude);
+  const float h0_term = altitude * (2.0f * float(R) + altitude);
+  AltitudeMarch am;
+  const int dir_count = n * half;
+  am.steps.resize(size_t(dir_count) * steps);
+  am.fms.assign(size_t(dir_count), glm::vec3(0.0f));
+  am.ground_tp.assign(size_t(dir_count), glm::vec3(0.0f));
+  am.ground_x.assign(size_t(dir_count), 0.0f);
+  am.ground_y.assign(size_t(dir_count), 0.0f);
+  am.ground_row.assign(size_t(dir_count), lut.row(0.0f));
+  am.dir_weight.assign(size_t(dir_count), 2.0f / float(directions));
+  for (int a = 0; a < half; ++a) {
+    const double azimuth = 2.0 * M_PI * (double(a) + 0.5) / n;
+    for (int b = 0; b < n; ++b) {
+      const int d = a * n + b;
+      const double cos_p = 1.0 - 2.0 * (double(b) + 0.5) / n;
+      const double sin_p = std::sqrt(std::max(0.0, 1.0 - cos_p * cos_p));
+      const double dir_x = sin_p * std::cos(azimuth);  // in the sun plane (sun has z = 0)
+      const double dir_y = cos_p;
+      const double t_ground = distance_to_ground(r0, cos_p, R);
+      const double t_max = t_ground >= 0.0 ? t_ground : std::max(distance_to_sphere_exit(r0, cos_p, m.top_radius), 0.0);
+      const float dt = float(t_max / steps);
+      glm::vec3 throughput(1.0f);
+      for (int k = 0; k < steps; ++k) {
+        const float t = (float(k) + 0.5f) * dt;
+        const float h = altitude_along_ray(float(R), h0_term, float(r0 * cos_p), t);
+        const float r = float(R) + h;
+        const MediumSample med = medium_from(m, profile.at(h));
+        glm::vec3 seg, step_t;
+        for (int c = 0; c < 3; ++c) {
+          const float tau = med.extinction[c] * dt;
+          step_t[c] = fast_exp_neg(-tau);
+          seg[c] = one_minus_exp_over_x(tau, step_t[c]) * dt;
+        }
+        MarchStep& s = am.steps[size_t(d) * steps + k];
+        s.tx_over_r = float(double(t) * dir_x) / r;
+        s.y_over_r = float(r0 + double(t) * dir_y) / r;
+        s.weight = throughput * med.scattering * seg;
+        s.row = lut.row(h);
+        am.fms[size_t(d)] += s.weight;
+        throughput *= step_t;
+      }
+      if (t_ground >= 0.0) {
+        am.ground_tp[size_t(d)] = throughput * m.ground_albedo / kPi;
+        am.ground_x[size_t(d)] = float(t_ground * dir_x / R);
+        am.ground_y[size_t(d)] = float((r0 + t_ground * dir_y) / R);
+      }
+    }
+  }
+  return am;
+}
+
+void integrate_sun(const AltitudeMarch& am, const TransmittanceLut& lut, int steps, float mu_s,
+                   glm::vec3& l2, glm::vec3& fms) {
+  const float sin_s = std::sqrt(std::max(0.0f, 1.0f - mu_s * mu_s));
+  l2 = glm::vec3(0.0f);
+  fms = glm::vec3(0.0f);
+  const size_t dirs = am.fms.size();
+  for (size_t d = 0; d < dirs; ++d) {
+    glm::vec3 l(0.0f);
+    const MarchStep* s = &am.steps[d * size_t(steps)];
+    for (int k = 0; k < steps; ++k) {
+      const float mu = s[k].tx_over_r * sin_s + s[k].y_over_r * mu_s;
+      l += s[k].weight * lut.sun(s[k].row, mu);
+    }
+    l *= kIsotropicPhase;
+    if (am.ground_tp[d] != glm::vec3(0.0f)) {
+      const float mu_g = am.ground_x[d] * sin_s + am.ground_y[d] * mu_s;
+      l += am.ground_tp[d] * lut.sun(am.ground_row[d], mu_g) * std::max(mu_g, 0.0f);
+    }
+    l2 += l * am.dir_weight[d];
+    fms += am.fms[d] * am.dir_weight[d];
+  }
+  // L2 and f_ms are sphere integrals of isotropically re-scattered light: mean over directions.
+}
+
+}  // namespace
+
+MultiScatteringLut::MultiScatteringLut(const AtmosphereModel& model, int size, int directions, int steps,
+                                       float max_fms)
+    : model_(model),
+      directions_(directions),
+      steps_(steps),
+      max_fms_(max_fms),
+      inv_top_altitude_(float(1.0 / model.atmosphere_height())),
+      image_(size, size),
+      clamped_(size_t(size) * size, 0),
+      fms_(size_t(size) * size, 0.0f) {}
+
+void MultiScatteringLut::bake(size_t begin, size_t end, const TransmittanceLut& transmittance) {
+  const int w = image_.width;
+  size_t i = begin;
+  while (i < end) {
+    const int y = int(i / size_t(w));
+    const size_t row_end = std::min(end, size_t(y + 1) * size_t(w));
+    const float altitude = float(y) / float(image_.height - 1) * float(model_.atmosphere_height());
+    const AltitudeMarch am = march_altitude(model_, transmittance, altitude, directions_, steps_);
+    for (; i < row_end; ++i) {
+      const int x = int(i % size_t(w));
+      const float mu_s = float(x) / float(w - 1) * 2.0f - 1.0f;
+      glm::vec3 l2, fms;
+      integrate_sun(am, transmittance, steps_, mu_s, l2, fms);
+      const float fmax = std::max(fms.x, std::max(fms.y, fms.z));
+      clamped_[i] = fmax > max_fms_ ? 1 : 0;
+      fms_[i] = fmax;
+      const glm::vec3 f = glm::min(fms, glm::vec3(max_fms_));
+      image_.texels[i] = l2 / (glm::vec3(1.0f) - f);
+    }
+  }
+}
+
+int MultiScatteringLut::clamped_texels() const {
+  int n = 0;
+  for (uint8_t c : clamped_) n += c;
+  return n;
+}
+
+float MultiScatteringLut::max_fms_seen() const {
+  float m = 0.0f;
+  for (float f : fms_) m = std::max(m, f);
+  return m;
+}
+
+}  // namespace cr

@@ -1,0 +1,39 @@
+#pragma once
+// Phase functions (1/sr, each integrates to 1 over the sphere) of cos(theta),
+// theta the angle between the light's travel direction and the scattered one
+// (equivalently, between view-to-sun and view directions).
+#include <algorithm>
+#include <cmath>
+
+#include "atmosphere/atmosphere_model.h"
+
+namespace cr {
+
+inline constexpr float kPi = 3.14159265358979f;
+inline constexpr float kIsotropicPhase = 1.0f / (4.0f * kPi);
+
+inline float rayleigh_phase(float cos_theta) {
+  return 3.0f / (16.0f * kPi) * (1.0f + cos_theta * cos_theta);
+}
+
+inline float henyey_greenstein_phase(float cos_theta, float g) {
+  const float g2 = g * g;
+  // >= (1-|g|)^2 > 0 for |g| < 1; the max only guards rounding at cos = +-1.
+  const float denom = std::max(1.0f + g2 - 2.0f * g * cos_theta, 1e-12f);
+  return (1.0f - g2) / (4.0f * kPi * denom * std::sqrt(denom));
+}
+
+inline float cornette_shanks_phase(float cos_theta, float g) {
+  const float g2 = g * g;
+  const float denom = std::max(1.0f + g2 - 2.0f * g * cos_theta, 1e-12f);
+  return 3.0f / (8.0f * kPi) * (1.0f - g2) * (1.0f + cos_theta * cos_theta) /
+         ((2.0f + g2) * denom * std::sqrt(denom));
+}
+
+inline float mie_phase(const AtmosphereModel& m, float cos_theta) {
+  if (m.mie_phase == MiePhaseModel::CornetteShanks) return cornette_shanks_phase(cos_theta, m.mie_g);
+  return m.mie_lobe_weight * henyey_greenstein_phase(cos_theta, m.mie_g) +
+         (1.0f - m.mie_lobe_weight) * henyey_greenstein_phase(cos_theta, m.mie_g2);
+}
+
+}  // namespace cr

@@ -1,0 +1,391 @@
+#include "atmosphere/reference_renderer.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+
+namespace cr {
+
+namespace {
+
+constexpr double kPiD = 3.14159265358979323846;
+
+struct Rng {
+  uint64_t state;
+  uint64_t next_u64() {  // splitmix64
+    uint64_t z = (state += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return z ^ (z >> 31);
+  }
+  double uniform() { return double(next_u64() >> 11) * (1.0 / 9007199254740992.0); }
+};
+
+struct Medium {
+  glm::dvec3 rayleigh;
+  glm::dvec3 mie;
+  glm::dvec3 scattering;
+  glm::dvec3 extinction;
+};
+
+class Reference {
+ public:
+  explicit Reference(const AtmosphereModel& m) : m_(m), R_(m.bottom_radius), top_(m.top_radius) {}
+
+  Medium medium(double h) const {
+    h = std::max(h, 0.0);
+    const double dr = std::exp(-h / m_.rayleigh_scale_height);
+    const double dm = std::exp(-h / m_.mie_scale_height);
+    const double dz = std::max(0.0, 1.0 - std::abs(h - m_.ozone_center) / m_.ozone_half_width);
+    Medium s;
+    s.rayleigh = glm::dvec3(m_.rayleigh_scattering) * dr;
+    s.mie = glm::dvec3(m_.mie_scattering) * dm;
+    s.scattering = s.rayleigh + s.mie;
+    s.extinction = s.scattering + glm::dvec3(m_.mie_absorption) * dm + glm::dvec3(m_.ozone_absorption) * dz;
+    return s;
+  }
+  double altitude(const glm::dvec3& p) const { return glm::length(p) - R_; }
+  // Altitude-adaptive step: ~300 m near the ground (a quarter of the Mie scale height), up to 10 km.
+  static double step(double h) { return std::clamp(300.0 + 0.1 * h, 300.0, 10000.0); }
+
+  struct Span {
+    bool valid = false;
+    bool ground = false;
+    double t0 = 0.0, t1 = 0.0;
+  };
+  Span span(const glm::dvec3& o, const glm::dvec3& d) const {
+    Span s;
+    const double b = glm::dot(o, d);
+    const double c_top = glm::dot(o, o) - top_ * top_;
+    const double disc_top = b * b - c_top;
+    if (disc_top < 0.0) return s;
+    const double sq = std::sqrt(disc_top);
+    if (c_top > 0.0) {  // outside: enter if heading in
+      if (b >= 0.0) return s;
+      s.t0 = -b - sq;
+    }
+    s.t1 = -b + sq;
+    const double c_ground = glm::dot(o, o) - R_ * R_;
+    const double disc_g = b * b - c_ground;
+    if (b < 0.0 && disc_g >= 0.0) {
+      const double tg = -b - std::sqrt(disc_g);
+      if (tg >= s.t0) {
+        s.t1 = tg;
+        s.ground = true;
+      }
+    }
+    s.valid = s.t1 > s.t0;
+    return s;
+  }
+
+  glm::dvec3 optical_depth(const glm::dvec3& o, const glm::dvec3& d, double t0, double t1) const {
+    glm::dvec3 tau(0.0);
+    double t = t0;
+    while (t < t1) {
+      const double ds = std::min(step(altitude(o + t * d)), t1 - t);
+      tau += medium(altitude(o + (t + 0.5 * ds) * d)).extinction * ds;
+      t += ds;
+    }
+    return tau;
+  }
+
+  glm::dvec3 to_top(const glm::dvec3& x, const glm::dvec3& dir) const {
+    const Span s = span(x, dir);
+    if (s.ground) return glm::dvec3(0.0);
+    if (!s.valid) return glm::dvec3(1.0);
+    return glm::exp(-optical_depth(x, dir, s.t0, s.t1));
+  }
+
+  // Sunlight reaching x: transmittance times the visible fraction of the sun
+  // disk (the same smooth shadow edge as the LUT method).
+  glm::dvec3 sun(const glm::dvec3& x, const glm::dvec3& s) const {
+    const double r = glm::length(x);
+    const glm::dvec3 up = x / r;
+    const double mu = glm::dot(up, s);
+    const double mu_h = -std::sqrt(std::max(0.0, 1.0 - (R_ / r) * (R_ / r)));
+    const double pen = std::sin(double(m_.sun_angular_radius)) * (R_ / r);
+    const double above = mu - mu_h;
+    if (above <= -pen) return glm::dvec3(0.0);
+    double vis = 1.0;
+    glm::dvec3 dir = s;
+    if (above < pen) {
+      const double f = (above + pen) / (2.0 * pen);
+      vis = f * f * (3.0 - 2.0 * f);
+      if (mu < mu_h + 1e-9) {  // the disk centre is below the horizon: use the grazing ray
+        glm::dvec3 hz = s - mu * up;
+        const double len = glm::length(hz);
+        hz = len > 0.0 ? hz / len : glm::dvec3(1.0, 0.0, 0.0);
+        dir = (mu_h + 1e-9) * up + std::sqrt(std::max(0.0, 1.0 - (mu_h + 1e-9) * (mu_h + 1e-9))) * hz;
+      }
+    }
+    const Span sp = span(x, dir);
+    if (!sp.valid) return glm::dvec3(vis);
+    return vis * glm::exp(-optical_depth(x, dir, sp.t0, sp.t1));
+  }
+
+  double phase_mie(double c) const {
+    if (m_.mie_phase == MiePhaseModel::CornetteShanks) {
+      const double g = m_.mie_g, g2 = g * g;
+      const double den = std::max(1.0 + g2 - 2.0 * g * c, 1e-300);
+      return 3.0 / (8.0 * kPiD) * (1.0 - g2) * (1.0 + c * c) / ((2.0 + g2) * den * std::sqrt(den));
+    }
+    return m_.mie_lobe_weight * hg(c, m_.mie_g) + (1.0 - m_.mie_lobe_weight) * hg(c, m_.mie_g2);
+  }
+  static double hg(double c, double g) {
+    const double g2 = g * g;
+    const double den = std::max(1.0 + g2 - 2.0 * g * c, 1e-300);
+    return (1.0 - g2) / (4.0 * kPiD * den * std::sqrt(den));
+  }
+  static double phase_rayleigh(double c) { return 3.0 / (16.0 * kPiD) * (1.0 + c * c); }
+
+  // Mie sampling proxy: the HG lobe(s); pdf of cos around the travel direction.
+  double mie_proxy_pdf(double c) const {
+    if (m_.mie_phase == MiePhaseModel::CornetteShanks) return hg(c, m_.mie_g);
+    return m_.mie_lobe_weight * hg(c, m_.mie_g) + (1.0 - m_.mie_lobe_weight) * hg(c, m_.mie_g2);
+  }
+  double sample_mie_cos(Rng& rng) const {
+    double g = m_.mie_g;
+    if (m_.mie_phase == MiePhaseModel::DoubleHenyeyGreenstein && rng.uniform() >= m_.mie_lobe_weight) g = m_.mie_g2;
+    const double u = rng.uniform();
+    if (std::abs(g) < 1e-4) return 1.0 - 2.0 * u;
+    const double q = (1.0 - g * g) / (1.0 - g + 2.0 * g * u);
+    return std::clamp((1.0 + g * g - q * q) / (2.0 * g), -1.0, 1.0);
+  }
+
+  const AtmosphereModel& m_;
+  double R_, top_;
+};
+
+glm::dvec3 around(const glm::dvec3& axis, double cos_t, double phi) {
+  const glm::dvec3 ref = std::abs(axis.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
+  const glm::dvec3 u = glm::normalize(glm::cross(axis, ref));
+  const glm::dvec3 v = glm::cross(axis, u);
+  const double sin_t = std::sqrt(std::max(0.0, 1.0 - cos_t * cos_t));
+  return glm::normalize(axis * cos_t + (u * std::cos(phi) + v * std::sin(phi)) * sin_t);
+}
+
+double mean(const glm::dvec3& v) { return (v.x + v.y + v.z) / 3.0; }
+double max_component(const glm::dvec3& v) { return std::max(v.x, std::max(v.y, v.z)); }
+
+// Single scattering plus the directly seen sunlit ground, deterministic.
+glm::dvec3 single_scattering(const Reference& ref, glm::dvec3 o, const glm::dvec3& d, const glm::dvec3& s,
+                             const glm::dvec3& e) {
+  const Reference::Span sp = ref.span(o, d);
+  if (!sp.valid) return glm::dvec3(0.0);
+  const double nu = glm::dot(d, s);
+  const double pr = Reference::phase_rayleigh(nu), pm = ref.phase_mie(nu);
+  glm::dvec3 l(0.0), throughput(1.0);
+  double t = sp.t0;
+  while (t < sp.t1) {
+    const double ds = std::min(Reference::step(ref.altitude(o + t * d)), sp.t1 - t);
+    const glm::dvec3 x = o + (t + 0.5 * ds) * d;
+    const Medium med = ref.medium(ref.altitude(x));
+    const glm::dvec3 sun = ref.sun(x, s);
+    const glm::dvec3 source = (med.rayleigh * pr + med.mie * pm) * sun;
+    glm::dvec3 seg;
+    for (int c = 0; c < 3; ++c)
+      seg[c] = med.extinction[c] > 0.0 ? -std::expm1(-med.extinction[c] * ds) / med.extinction[c] : ds;
+    l += throughput * source * seg;
+    throughput *= glm::exp(-med.extinction * ds);
+    t += ds;
+  }
+  if (sp.ground) {
+    const glm::dvec3 xg = o + sp.t1 * d;
+    const glm::dvec3 n = glm::normalize(xg);
+    l += throughput * glm::dvec3(ref.m_.ground_albedo) / kPiD * ref.sun(xg, s) * std::max(0.0, glm::dot(n, s));
+  }
+  return l * e;
+}
+
+// Continues a path leaving `pos` along `dir` with `throughput`; `vertex` is the
+// index of the next vertex. Returns the sun light it gathers at vertices >= 2.
+glm::dvec3 trace(const Reference& ref, glm::dvec3 pos, glm::dvec3 dir, glm::dvec3 throughput, int first_vertex,
+                 const glm::dvec3& s, const glm::dvec3& e, int max_bounces, Rng& rng);
+
+// Scatters at a volume vertex: picks the next direction and updates the throughput.
+void scatter(const Reference& ref, const Medium& at, glm::dvec3& dir, glm::dvec3& throughput, Rng& rng) {
+  const double a = mean(at.rayleigh) / std::max(mean(at.scattering), 1e-300);
+  double c;
+  if (rng.uniform() < a) {
+    c = 1.0 - 2.0 * rng.uniform();
+  } else {
+    c = ref.sample_mie_cos(rng);
+  }
+  const double q = a / (4.0 * kPiD) + (1.0 - a) * ref.mie_proxy_pdf(c);
+  const glm::dvec3 f = at.rayleigh * Reference::phase_rayleigh(c) + at.mie * ref.phase_mie(c);
+  throughput = throughput * f / q;
+  dir = around(dir, c, 2.0 * kPiD * rng.uniform());
+}
+
+// One path's estimate of orders >= 2 (the first vertex's sun term is single
+// scattering). The first vertex is split: a volume collision forced inside the
+// segment (distance sampled from the truncated free-flight pdf, spectral MIS)
+// plus, when the ray hits the ground, the ground vertex weighted by the
+// transmittance; so no path is wasted on rays that would leave the atmosphere.
+glm::dvec3 multiple_scattering_path(const Reference& ref, glm::dvec3 pos, glm::dvec3 dir, const glm::dvec3& s,
+                                    const glm::dvec3& e, int max_bounces, Rng& rng) {
+  const Reference::Span sp = ref.span(pos, dir);
+  if (!sp.valid) return glm::dvec3(0.0);
+  glm::dvec3 l(0.0);
+  const glm::dvec3 tau_end = ref.optical_depth(pos, dir, sp.t0, sp.t1);
+  const glm::dvec3 t_end = glm::exp(-tau_end);
+  const glm::dvec3 hit_prob = glm::dvec3(1.0) - t_end;
+  if (sp.ground) {
+    const glm::dvec3 xg = pos + sp.t1 * dir;
+    const glm::dvec3 n = glm::normalize(xg);
+    const glm::dvec3 bounce = around(n, std::sqrt(1.0 - rng.uniform()), 2.0 * kPiD * rng.uniform());
+    l += trace(ref, n * (ref.R_ + 1e-3), bounce, t_end * glm::dvec3(ref.m_.ground_albedo), 2, s, e, max_bounces, rng);
+  }
+  const int channel = std::min(2, int(rng.uniform() * 3.0));
+  if (!(hit_prob[channel] > 0.0)) return l;
+  const double target = -std::log(1.0 - rng.uniform() * hit_prob[channel]);
+  glm::dvec3 tau(0.0);
+  double t = sp.t0;
+  Medium at{};
+  bool collided = false;
+  while (t < sp.t1) {
+    const double ds = std::min(Reference::step(ref.altitude(pos + t * dir)), sp.t1 - t);
+    const Medium med = ref.medium(ref.altitude(pos + (t + 0.5 * ds) * dir));
+    const glm::dvec3 next = tau + med.extinction * ds;
+    if (next[channel] >= target && med.extinction[channel] > 0.0) {
+      const double dt = (target - tau[channel]) / med.extinction[channel];
+      t += dt;
+      tau += med.extinction * dt;
+      at = med;
+      collided = true;
+      break;
+    }
+    tau = next;
+    t += ds;
+  }
+  if (!collided) return l;  // rounding at the far end
+  const glm::dvec3 tr = glm::exp(-tau);
+  double pdf = 0.0;
+  for (int k = 0; k < 3; ++k)
+    if (hit_prob[k] > 0.0) pdf += at.extinction[k] * tr[k] / hit_prob[k];
+  pdf /= 3.0;
+  if (!(pdf > 0.0)) return l;
+  const glm::dvec3 x = pos + t * dir;
+  glm::dvec3 throughput = tr / pdf;
+  scatter(ref, at, dir, throughput, rng);
+  return l + trace(ref, x, dir, throughput, 2, s, e, max_bounces, rng);
+}
+
+glm::dvec3 trace(const Reference& ref, glm::dvec3 pos, glm::dvec3 dir, glm::dvec3 throughput, int first_vertex,
+                 const glm::dvec3& s, const glm::dvec3& e, int max_bounces, Rng& rng) {
+  glm::dvec3 l(0.0);
+  const glm::dvec3 albedo(ref.m_.ground_albedo);
+  for (int vertex = first_vertex; vertex <= max_bounces; ++vertex) {
+    const Reference::Span sp = ref.span(pos, dir);
+    if (!sp.valid) break;
+    // Free flight: one channel's extinction, chosen uniformly (one-sample spectral MIS).
+    const int channel = std::min(2, int(rng.uniform() * 3.0));
+    const double target = -std::log(1.0 - rng.uniform());
+    glm::dvec3 tau(0.0);
+    double t = sp.t0;
+    bool collided = false;
+    Medium at{};
+    while (t < sp.t1) {
+      const double ds = std::min(Reference::step(ref.altitude(pos + t * dir)), sp.t1 - t);
+      const Medium med = ref.medium(ref.altitude(pos + (t + 0.5 * ds) * dir));
+      const glm::dvec3 next = tau + med.extinction * ds;
+      if (next[channel] >= target && med.extinction[channel] > 0.0) {
+        const double dt = (target - tau[channel]) / med.extinction[channel];
+        t += dt;
+        tau += med.extinction * dt;
+        at = med;
+        collided = true;
+        break;
+      }
+      tau = next;
+      t += ds;
+    }
+    const glm::dvec3 tr = glm::exp(-tau);
+    if (collided) {
+      const glm::dvec3 x = pos + t * dir;
+      const double pdf_t = mean(at.extinction * tr);
+      if (!(pdf_t > 0.0)) break;
+      const glm::dvec3 w = throughput * tr / pdf_t;
+      if (vertex >= 2) {
+        const double nu = glm::dot(dir, s);
+        l += w * (at.rayleigh * Reference::phase_rayleigh(nu) + at.mie * ref.phase_mie(nu)) * ref.sun(x, s) * e;
+      }
+      // Direction: uniform sphere (Rayleigh proxy) or the Mie proxy, mixed by scattering share.
+      throughput = w;
+      scatter(ref, at, dir, throughput, rng);
+      pos = x;
+    } else {
+      const double p_none = mean(tr);
+      if (!(p_none > 0.0)) break;
+      throughput *= tr / p_none;
+      if (!sp.ground) break;  // escaped to space
+      const glm::dvec3 xg = pos + sp.t1 * dir;
+      const glm::dvec3 n = glm::normalize(xg);
+      if (vertex >= 2) l += throughput * albedo / kPiD * ref.sun(xg, s) * std::max(0.0, glm::dot(n, s)) * e;
+      // Cosine-weighted bounce: BRDF * cos / pdf = albedo.
+      dir = around(n, std::sqrt(1.0 - rng.uniform()), 2.0 * kPiD * rng.uniform());
+      throughput *= albedo;
+      pos = n * (ref.R_ + 1e-3);
+    }
+    if (vertex >= 3) {  // Russian roulette
+      const double keep = std::min(1.0, max_component(throughput));
+      if (rng.uniform() >= keep) break;
+      throughput /= keep;
+    }
+  }
+  return l;
+}
+
+}  // namespace
+
+glm::dvec3 reference_transmittance(const AtmosphereModel& model, const glm::dvec3& point, const glm::dvec3& dir) {
+  return Reference(model).to_top(point, glm::normalize(dir));
+}
+
+ReferenceImage render_reference(const AtmosphereModel& model, const ReferenceView& view,
+                                const ReferenceSettings& settings, JobSystem& jobs,
+                                const std::function<void(size_t, size_t)>& progress) {
+  const Reference ref(model);
+  const size_t n = view.directions.size();
+  ReferenceImage out;
+  out.radiance.assign(n, glm::vec3(0.0f));
+  out.noise.assign(n, 0.0f);
+  glm::dvec3 o = view.origin;
+  const double r = glm::length(o);
+  if (r < model.bottom_radius + 0.01) o = o / r * (model.bottom_radius + 0.01);  // below the ground: clamp
+  const glm::dvec3 s = glm::normalize(glm::dvec3(view.sun_direction));
+  const glm::dvec3 e(view.sun_illuminance);
+  std::atomic<size_t> done{0};
+  const size_t grain = 64;
+  jobs.parallel_for("atmosphere.reference", n, grain, [&](size_t begin, size_t end) {
+    for (size_t i = begin; i < end; ++i) {
+      const glm::dvec3 d = glm::normalize(glm::dvec3(view.directions[i]));
+      glm::dvec3 l(0.0);
+      if (settings.single_scattering) l += single_scattering(ref, o, d, s, e);
+      if (settings.multiple_scattering && settings.samples_per_pixel > 0) {
+        glm::dvec3 sum(0.0);
+        double y_sum = 0.0, y_sq = 0.0;
+        const int spp = settings.samples_per_pixel;
+        for (int k = 0; k < spp; ++k) {
+          Rng rng{settings.seed * 0x100000001B3ull ^ (uint64_t(i) << 20) ^ uint64_t(k)};
+          rng.next_u64();
+          const glm::dvec3 p = multiple_scattering_path(ref, o, d, s, e, settings.max_bounces, rng);
+          const double y = 0.2126 * p.x + 0.7152 * p.y + 0.0722 * p.z;
+          sum += p;
+          y_sum += y;
+          y_sq += y * y;
+        }
+        l += sum / double(spp);
+        const double y_mean = y_sum / spp;
+        const double var = spp > 1 ? std::max(0.0, (y_sq / spp - y_mean * y_mean) * spp / (spp - 1)) : 0.0;
+        out.noise[i] = float(std::sqrt(var / spp));
+      }
+      out.radiance[i] = glm::vec3(l);
+    }
+    const size_t total = done.fetch_add(end - begin) + (end - begin);
+    if (progress) progress(total, n);
+  });
+  return out;
+}
+
+}  // namespace cr

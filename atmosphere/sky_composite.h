@@ -1,0 +1,23 @@
+#pragma once
+// The per-pixel composite: sky (sky-view LUT + sun disk with limb darkening,
+// attenuated by the transmittance LUT) where nothing was drawn, aerial
+// perspective (froxel LUT, trilinear; ray-marched beyond its range) on opaque
+// pixels, and per-pixel ray marching for both in the space fallback.
+#include <glm/glm.hpp>
+
+#include "atmosphere/sky_frame.h"
+#include "engine/render/frame_buffers.h"
+
+namespace cr {
+
+// Sky radiance (cd/m^2) along a world direction, without / with the sun disk.
+glm::vec3 sky_radiance(const SkyFrame& f, const glm::vec3& dir, bool with_sun_disk);
+// Applies aerial perspective to a surface colour seen at `distance` metres along `dir`.
+glm::vec3 apply_aerial_perspective(const SkyFrame& f, const glm::vec3& dir, float distance, const glm::vec3& color);
+// Radiance of the sun disk along dir (0 outside the disk), before the atmosphere.
+glm::vec3 sun_disk_radiance(const SkyFrame& f, const glm::vec3& dir);
+
+// Composites the rectangle [x0, x1) x [y0, y1) of the buffers in place.
+void composite_sky(const SkyFrame& f, FrameBuffers& buffers, int x0, int y0, int x1, int y1);
+
+}  // namespace cr

@@ -1,0 +1,35 @@
+#include "atmosphere/sky_lighting.h"
+
+#include <cmath>
+
+#include "atmosphere/phase_functions.h"
+#include "atmosphere/sky_composite.h"
+#include "engine/shading/sh_lighting.h"
+
+namespace cr {
+
+std::array<glm::vec3, 9> sky_ambient_sh(const SkyFrame& f) {
+  if (!f.valid) return {};
+  return sh_project([&f](const glm::vec3& d) { return sky_radiance(f, d, false); });
+}
+
+void fill_light_environment(const SkyFrame& f, LightEnvironment& light) {
+  light.sun_direction = f.sun;
+  if (!f.valid) return;
+  light.sun_illuminance = f.sun_illuminance * f.transmittance->sun(f.camera_row, f.mu_s);
+  light.ambient_sh = sky_ambient_sh(f);
+  // The lambda owns its LUT snapshot: shading may run while the next frame republishes.
+  std::shared_ptr<const TransmittanceLut> lut = f.transmittance;
+  const glm::dvec3 offset = f.planet_offset;
+  const glm::vec3 sun = f.sun;
+  const glm::vec3 e = f.sun_illuminance;
+  const double ground = f.model.bottom_radius;
+  light.sun_at = [lut, offset, sun, e, ground](const glm::vec3& world_pos) {
+    const glm::dvec3 p = glm::dvec3(world_pos) + offset;
+    const double r = glm::length(p);
+    const float mu_s = float(glm::dot(p, glm::dvec3(sun)) / r);
+    return e * lut->sun(float(r - ground), mu_s);
+  };
+}
+
+}  // namespace cr

@@ -1,0 +1,85 @@
+#include "atmosphere/skyview_lut.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "atmosphere/fast_math.h"
+#include "atmosphere/planet_geometry.h"
+
+namespace cr {
+
+SkyViewMapping::SkyViewMapping(double ground_radius, double altitude) {
+  const double h = std::max(altitude, 0.0);
+  const double to_horizon = std::sqrt(h * (2.0 * ground_radius + h));
+  const double b = std::atan2(ground_radius, to_horizon);  // precise even a metre above the ground
+  beta = float(b);
+  zenith_horizon_angle = float(M_PI - b);
+}
+
+glm::vec2 SkyViewMapping::to_unit(float cos_view_zenith, float cos_longitude) const {
+  const float angle = fast_acos(cos_view_zenith);
+  float v;
+  if (angle < zenith_horizon_angle) {
+    v = 0.5f * (1.0f - std::sqrt(std::max(0.0f, 1.0f - angle / zenith_horizon_angle)));
+  } else {
+    v = 0.5f + 0.5f * std::sqrt(std::min(1.0f, (angle - zenith_horizon_angle) / beta));
+  }
+  const float u = std::sqrt(std::clamp(0.5f - 0.5f * cos_longitude, 0.0f, 1.0f));
+  return {u, v};
+}
+
+void SkyViewMapping::from_unit(glm::vec2 unit, double& cos_view_zenith, double& cos_longitude) const {
+  double angle;
+  if (unit.y < 0.5f) {
+    const double c = 1.0 - 2.0 * double(unit.y);
+    angle = double(zenith_horizon_angle) * (1.0 - c * c);
+  } else {
+    const double c = 2.0 * double(unit.y) - 1.0;
+    angle = double(zenith_horizon_angle) + double(beta) * c * c;
+  }
+  cos_view_zenith = std::cos(angle);
+  cos_longitude = 1.0 - 2.0 * double(unit.x) * double(unit.x);
+}
+
+SkyViewLut::SkyViewLut(int width, int height, int min_steps, int max_steps, float altitude, float mu_s,
+                       double ground_radius)
+    : min_steps_(min_steps),
+      max_steps_(max_steps),
+      altitude_(altitude),
+      mu_s_(mu_s),
+      mapping_(ground_radius, altitude),
+      image_(width, height),
+      mie_(width, height) {}
+
+void SkyViewLut::bake(size_t begin, size_t end, const AtmosphereLuts& luts) {
+  const AtmosphereModel& m = luts.model;
+  const int w = image_.width;
+  const double r = m.bottom_radius + double(altitude_);
+  const double sin_s = std::sqrt(std::max(0.0, 1.0 - double(mu_s_) * mu_s_));
+  MarchedRay ray;
+  size_t i = begin;
+  while (i < end) {
+    const int y = int(i / size_t(w));
+    const size_t row_end = std::min(end, size_t(y + 1) * size_t(w));
+    double cos_vz, unused;
+    mapping_.from_unit(glm::vec2(0.0f, float(y) / float(image_.height - 1)), cos_vz, unused);
+    const double sin_vz = std::sqrt(std::max(0.0, 1.0 - cos_vz * cos_vz));
+    // The row's ray is the same for every longitude: march it once.
+    const double t_ground = distance_to_ground(r, cos_vz, m.bottom_radius);
+    const double t_end = t_ground >= 0.0 ? t_ground : std::max(distance_to_sphere_exit(r, cos_vz, m.top_radius), 0.0);
+    const int steps = variable_steps(float(t_end), min_steps_, max_steps_);
+    march(luts, altitude_, float(cos_vz), 0.0f, float(t_end), steps, StepSpacing::Quadratic, t_ground >= 0.0,
+          0.0f, ray);
+    for (; i < row_end; ++i) {
+      const int x = int(i % size_t(w));
+      double unused_vz, cos_lon;
+      mapping_.from_unit(glm::vec2(float(x) / float(w - 1), 0.0f), unused_vz, cos_lon);
+      const double nu = sin_vz * cos_lon * sin_s + cos_vz * double(mu_s_);
+      const ShadedRay shaded = shade_split(luts, ray, mu_s_, float(std::clamp(nu, -1.0, 1.0)));
+      image_.texels[i] = shaded.rest;
+      mie_.texels[i] = shaded.mie_unphased;
+    }
+  }
+}
+
+}  // namespace cr

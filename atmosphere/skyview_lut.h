@@ -1,0 +1,62 @@
+#pragma once
+// LUT 3: the sky seen from the camera, over (longitude relative to the sun,
+// view zenith), single + multiple scattering for unit sun illuminance. Valid
+// for one camera altitude and sun zenith angle; the sun's azimuth only turns
+// it. Hillaire's non-linear latitude mapping puts the horizon between the two
+// middle rows and squeezes texels towards it on both sides; the longitude
+// mapping u = sqrt((1 - cos)/2) concentrates texels towards the sun. The Mie
+// single scattering is stored without its phase, which is applied per pixel.
+#include <cstddef>
+
+#include <glm/glm.hpp>
+
+#include "atmosphere/lut_image.h"
+#include "atmosphere/scattering_march.h"
+
+namespace cr {
+
+struct SkyViewMapping {
+  float zenith_horizon_angle = 0.0f;  // zenith angle of the horizon (> pi/2 above the ground)
+  float beta = 0.0f;                  // angle between the horizon and the nadir
+
+  SkyViewMapping() = default;
+  SkyViewMapping(double ground_radius, double altitude);
+  // (cos view zenith, cos longitude from the sun) -> unit square
+  glm::vec2 to_unit(float cos_view_zenith, float cos_longitude) const;
+  void from_unit(glm::vec2 unit, double& cos_view_zenith, double& cos_longitude) const;
+};
+
+class SkyViewLut {
+ public:
+  SkyViewLut() = default;
+  // The LUT for a camera at `altitude` with the sun at zenith cosine `mu_s`.
+  SkyViewLut(int width, int height, int min_steps, int max_steps, float altitude, float mu_s, double ground_radius);
+
+  void bake(size_t begin, size_t end, const AtmosphereLuts& luts);  // texels [begin, end), row-major
+  size_t texel_count() const { return image_.count(); }
+
+  // Luminance for unit sun illuminance along a direction with these LUT
+  // coordinates; mie_phase_value = the Mie phase of that direction (applied per
+  // pixel, not stored: a LUT texel is far wider than the forward lobe).
+  glm::vec3 sample(glm::vec2 unit, float mie_phase_value) const {
+    const LutCoord x = lut_coord(unit.x * float(image_.width - 1), image_.width);
+    const LutCoord y = lut_coord(unit.y * float(image_.height - 1), image_.height);
+    return sample_bilinear(image_, x, y) + sample_bilinear(mie_, x, y) * mie_phase_value;
+  }
+  const SkyViewMapping& mapping() const { return mapping_; }
+  float altitude() const { return altitude_; }
+  float mu_s() const { return mu_s_; }
+  const LutImage& image() const { return image_; }      // all but Mie single scattering
+  const LutImage& mie_image() const { return mie_; }    // Mie single scattering without phase
+
+ private:
+  int min_steps_ = 4;
+  int max_steps_ = 14;
+  float altitude_ = 0.0f;
+  float mu_s_ = 1.0f;
+  SkyViewMapping mapping_;
+  LutImage image_;
+  LutImage mie_;
+};
+
+}  // namespace cr

@@ -1,0 +1,110 @@
+#include "atmosphere/transmittance_lut.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "atmosphere/atmosphere_density.h"
+#include "atmosphere/planet_geometry.h"
+
+namespace cr {
+
+TransmittanceMapping::TransmittanceMapping(const AtmosphereModel& m)
+    : ground_radius(float(m.bottom_radius)),
+      top_altitude(float(m.atmosphere_height())),
+      horizon_top(float(std::sqrt(m.atmosphere_height() * (2.0 * m.bottom_radius + m.atmosphere_height())))) {}
+
+glm::vec2 TransmittanceMapping::to_unit(float altitude, float mu) const {
+  const float h = std::clamp(altitude, 0.0f, top_altitude);
+  const float r = ground_radius + h;
+  const float rho = std::sqrt(h * (2.0f * ground_radius + h));
+  const float top2_minus_r2 = (top_altitude - h) * (2.0f * ground_radius + top_altitude + h);
+  const float mu_c = std::clamp(mu, -1.0f, 1.0f);
+  const float d = std::max(0.0f, -r * mu_c + std::sqrt(std::max(r * r * mu_c * mu_c + top2_minus_r2, 0.0f)));
+  const float d_min = top_altitude - h;
+  const float d_max = rho + horizon_top;
+  const float x_mu = d_max > d_min ? (d - d_min) / (d_max - d_min) : 0.0f;
+  return {std::clamp(x_mu, 0.0f, 1.0f), rho / horizon_top};
+}
+
+void TransmittanceMapping::from_unit(glm::vec2 unit, float& altitude, float& mu) const {
+  const double R = ground_radius;
+  const double H = horizon_top;
+  const double rho = H * double(unit.y);
+  const double r = std::sqrt(rho * rho + R * R);
+  const double h = rho * rho / (R + r);
+  const double d_min = double(top_altitude) - h;
+  const double d_max = rho + H;
+  const double d = d_min + double(unit.x) * (d_max - d_min);
+  const double m = d <= 0.0 ? 1.0 : (H * H - rho * rho - d * d) / (2.0 * r * d);
+  altitude = float(h);
+  mu = float(std::clamp(m, -1.0, 1.0));
+}
+
+glm::vec3 optical_depth(const AtmosphereModel& m, float h0, float mu, float length, int steps) {
+  const float R = float(m.bottom_radius);
+  const float h0_term = h0 * (2.0f * R + h0);
+  const float r0mu = (R + h0) * mu;
+  const float dt = length / float(steps);
+  const DensityProfile profile(m);
+  // The coefficients are constant along the ray: integrate the three densities
+  // only. Densities go to a buffer first (a loop without reductions vectorizes);
+  // the sums then run in index order.
+  constexpr int kBlock = 64;
+  float rayleigh[kBlock], mie[kBlock], ozone[kBlock];
+  float sum_rayleigh = 0.0f, sum_mie = 0.0f, sum_ozone = 0.0f;
+  for (int k0 = 0; k0 < steps; k0 += kBlock) {
+    const int n = std::min(kBlock, steps - k0);
+    for (int j = 0; j < n; ++j) {
+      const float t = (float(k0 + j) + 0.5f) * dt;
+      const Densities d = profile.at(altitude_along_ray(R, h0_term, r0mu, t));
+      rayleigh[j] = d.rayleigh;
+      mie[j] = d.mie;
+      ozone[j] = d.ozone;
+    }
+    for (int j = 0; j < n; ++j) {
+      sum_rayleigh += rayleigh[j];
+      sum_mie += mie[j];
+      sum_ozone += ozone[j];
+    }
+  }
+  return (m.rayleigh_scattering * sum_rayleigh + (m.mie_scattering + m.mie_absorption) * sum_mie +
+          m.ozone_absorption * sum_ozone) * dt;
+}
+
+TransmittanceLut::TransmittanceLut(const AtmosphereModel& model, int width, int height, int steps)
+    : model_(model),
+      mapping_(model),
+      steps_(steps),
+      sin_sun_radius_(std::sin(model.sun_angular_radius)),
+      image_(width, height) {}
+
+void TransmittanceLut::bake(size_t begin, size_t end) {
+  for (size_t i = begin; i < end; ++i) {
+    const int x = int(i % size_t(image_.width));
+    const int y = int(i / size_t(image_.width));
+    const glm::vec2 unit(float(x) / float(image_.width - 1), float(y) / float(image_.height - 1));
+    float h, mu;
+    mapping_.from_unit(unit, h, mu);
+    const double r = model_.bottom_radius + h;
+    const double length = std::max(distance_to_sphere_exit(r, mu, model_.top_radius), 0.0);
+    image_.texels[i] = glm::exp(-optical_depth(model_, h, mu, float(length), steps_));
+  }
+}
+
+TransmittanceRow TransmittanceLut::row(float altitude) const {
+  const float R = mapping_.ground_radius;
+  const float h = std::clamp(altitude, 0.0f, mapping_.top_altitude);
+  TransmittanceRow row;
+  row.r = R + h;
+  const float rho = std::sqrt(h * (2.0f * R + h));
+  row.d_min = mapping_.top_altitude - h;
+  const float d_range = rho + mapping_.horizon_top - row.d_min;
+  row.inv_d_range = d_range > 0.0f ? 1.0f / d_range : 0.0f;
+  row.top2_minus_r2 = (mapping_.top_altitude - h) * (2.0f * R + mapping_.top_altitude + h);
+  row.mu_horizon = -rho / row.r;
+  row.penumbra = sin_sun_radius_ * (R / row.r);
+  row.y = lut_coord(rho / mapping_.horizon_top * float(image_.height - 1), image_.height);
+  return row;
+}
+
+}  // namespace cr

@@ -1,0 +1,89 @@
+#pragma once
+// LUT 1: transmittance from a point to the top of the atmosphere, over
+// (altitude, view zenith cosine) with Bruneton's mapping: x_r = rho/H (rho the
+// distance to the horizon), x_mu = (d - d_min)/(d_max - d_min) (d the distance
+// to the top). Only rays that miss the ground are stored; the sun lookup adds
+// the planet's shadow with a penumbra over the sun disk.
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+
+#include <glm/glm.hpp>
+
+#include "atmosphere/atmosphere_model.h"
+#include "atmosphere/lut_image.h"
+
+namespace cr {
+
+// The (altitude, mu) <-> unit square mapping of one planet.
+struct TransmittanceMapping {
+  float ground_radius = 0.0f;
+  float top_altitude = 0.0f;  // top radius - ground radius
+  float horizon_top = 0.0f;   // H = sqrt(top^2 - R^2)
+
+  explicit TransmittanceMapping(const AtmosphereModel& m = AtmosphereModel());
+  glm::vec2 to_unit(float altitude, float mu) const;              // (x_mu, x_r)
+  void from_unit(glm::vec2 unit, float& altitude, float& mu) const;
+};
+
+// Per-altitude constants of a lookup, shared by every mu at that altitude.
+struct TransmittanceRow {
+  float r;
+  float d_min;
+  float inv_d_range;
+  float top2_minus_r2;
+  float mu_horizon;
+  float penumbra;  // sin(sun radius) * cos(horizon): half width of the shadow transition in mu
+  LutCoord y;
+};
+
+class TransmittanceLut {
+ public:
+  TransmittanceLut() = default;
+  TransmittanceLut(const AtmosphereModel& model, int width, int height, int steps);
+
+  // Computes texels [begin, end) (row-major); disjoint ranges may run in parallel.
+  void bake(size_t begin, size_t end);
+  size_t texel_count() const { return image_.count(); }
+
+  TransmittanceRow row(float altitude) const;
+  // Transmittance to the top along mu (clamped to the horizon: rays into the ground read the horizon).
+  glm::vec3 to_top(const TransmittanceRow& row, float mu) const;
+  // Sunlight transmittance at the row's altitude for sun zenith cosine mu_s,
+  // zero in the planet's shadow, smooth over the sun disk's size.
+  glm::vec3 sun(const TransmittanceRow& row, float mu_s) const;
+  glm::vec3 sun(float altitude, float mu_s) const { return sun(row(altitude), mu_s); }
+
+  const LutImage& image() const { return image_; }
+  const AtmosphereModel& model() const { return model_; }
+  const TransmittanceMapping& mapping() const { return mapping_; }
+
+ private:
+  AtmosphereModel model_;
+  TransmittanceMapping mapping_;
+  int steps_ = 40;
+  float sin_sun_radius_ = 0.0f;
+  LutImage image_;
+};
+
+// Optical depth along a ray from altitude h0 with zenith cosine mu over
+// distance `length`, by `steps` midpoint samples (shared with the tests).
+glm::vec3 optical_depth(const AtmosphereModel& m, float h0, float mu, float length, int steps);
+
+inline glm::vec3 TransmittanceLut::to_top(const TransmittanceRow& row, float mu) const {
+  mu = std::clamp(mu, row.mu_horizon, 1.0f);
+  const float d = -row.r * mu + std::sqrt(std::max(row.r * row.r * mu * mu + row.top2_minus_r2, 0.0f));
+  const float x_mu = (d - row.d_min) * row.inv_d_range;
+  return sample_bilinear(image_, lut_coord(x_mu * float(image_.width - 1), image_.width), row.y);
+}
+
+inline glm::vec3 TransmittanceLut::sun(const TransmittanceRow& row, float mu_s) const {
+  const float above = mu_s - row.mu_horizon;
+  if (above <= -row.penumbra) return glm::vec3(0.0f);
+  const glm::vec3 t = to_top(row, mu_s);
+  if (above >= row.penumbra) return t;
+  const float s = (above + row.penumbra) / (2.0f * row.penumbra);  // visible fraction of the disk
+  return t * (s * s * (3.0f - 2.0f * s));
+}
+
+}  // namespace cr

@@ -1,0 +1,213 @@
+// Model, phase functions, transmittance against closed forms, LUT mappings.
+#include <doctest/doctest.h>
+
+#include <cmath>
+
+#include "atmosphere/atmosphere_model.h"
+#include "atmosphere/atmosphere_settings.h"
+#include "atmosphere/phase_functions.h"
+#include "atmosphere/planet_geometry.h"
+#include "atmosphere/skyview_lut.h"
+#include "atmosphere/transmittance_lut.h"
+#include "engine/core/error.h"
+
+using namespace cr;
+
+namespace {
+
+// 2 pi * integral of p(cos) over cos in [-1, 1] (Simpson, in double).
+double sphere_integral(const std::function<double(double)>& p) {
+  const int n = 200000;
+  const double h = 2.0 / n;
+  double s = p(-1.0) + p(1.0);
+  for (int i = 1; i < n; ++i) s += p(-1.0 + i * h) * (i % 2 ? 4.0 : 2.0);
+  return 2.0 * M_PI * s * h / 3.0;
+}
+
+AtmosphereModel homogeneous() {
+  AtmosphereModel m;
+  m.rayleigh_scale_height = 1e12f;  // density 1 everywhere in float
+  m.mie_scattering = glm::vec3(0.0f);
+  m.mie_absorption = glm::vec3(0.0f);
+  m.ozone_absorption = glm::vec3(0.0f);
+  return m;
+}
+
+AtmosphereModel exponential_rayleigh() {
+  AtmosphereModel m;
+  m.mie_scattering = glm::vec3(0.0f);
+  m.mie_absorption = glm::vec3(0.0f);
+  m.ozone_absorption = glm::vec3(0.0f);
+  return m;
+}
+
+}  // namespace
+
+TEST_CASE("phase functions integrate to one over the sphere") {
+  CHECK(sphere_integral([](double c) { return rayleigh_phase(float(c)); }) == doctest::Approx(1.0).epsilon(1e-5));
+  for (float g : {-0.9f, -0.5f, 0.0f, 0.3f, 0.76f, 0.8f, 0.9f}) {
+    CAPTURE(g);
+    CHECK(sphere_integral([g](double c) { return henyey_greenstein_phase(float(c), g); }) ==
+          doctest::Approx(1.0).epsilon(2e-4));
+    CHECK(sphere_integral([g](double c) { return cornette_shanks_phase(float(c), g); }) ==
+          doctest::Approx(1.0).epsilon(2e-4));
+  }
+  AtmosphereModel m;
+  m.mie_phase = MiePhaseModel::DoubleHenyeyGreenstein;
+  m.mie_g = 0.76f;
+  CHECK(sphere_integral([&](double c) { return mie_phase(m, float(c)); }) == doctest::Approx(1.0).epsilon(2e-4));
+  // Forward peak: Mie scatters much more forwards than backwards.
+  CHECK(mie_phase(m, 1.0f) > 50.0f * mie_phase(m, -1.0f));
+}
+
+TEST_CASE("transmittance through a homogeneous atmosphere matches exp(-sigma * length)") {
+  const AtmosphereModel m = homogeneous();
+  TransmittanceLut lut(m, 256, 64, 40);
+  lut.bake(0, lut.texel_count());
+  for (float h : {0.0f, 1000.0f, 20000.0f, 80000.0f}) {
+    for (float mu : {1.0f, 0.5f, 0.1f, 0.0f}) {
+      const double r = m.bottom_radius + h;
+      const double len = distance_to_sphere_exit(r, mu, m.top_radius);
+      const glm::vec3 expected = glm::exp(-m.rayleigh_scattering * float(len));
+      const glm::vec3 direct = glm::exp(-optical_depth(m, h, mu, float(len), 40));
+      const glm::vec3 looked_up = lut.to_top(lut.row(h), mu);
+      CAPTURE(h);
+      CAPTURE(mu);
+      for (int c = 0; c < 3; ++c) {
+        CHECK(direct[c] == doctest::Approx(expected[c]).epsilon(1e-4));
+        CHECK(looked_up[c] == doctest::Approx(expected[c]).epsilon(0.02));
+      }
+    }
+  }
+}
+
+TEST_CASE("transmittance through an exponential atmosphere matches the vertical closed form") {
+  const AtmosphereModel m = exponential_rayleigh();
+  TransmittanceLut lut(m, 256, 64, 40);
+  lut.bake(0, lut.texel_count());
+  const double H = m.rayleigh_scale_height;
+  const double top = m.atmosphere_height();
+  for (double h : {0.0, 2000.0, 10000.0, 50000.0}) {
+    // Straight up: tau = sigma * H * (exp(-h/H) - exp(-top/H)).
+    const double column = H * (std::exp(-h / H) - std::exp(-top / H));
+    const glm::vec3 fine = optical_depth(m, float(h), 1.0f, float(top - h), 4000);
+    const glm::vec3 looked_up = lut.to_top(lut.row(float(h)), 1.0f);
+    CAPTURE(h);
+    for (int c = 0; c < 3; ++c) {
+      const double expected = std::exp(-double(m.rayleigh_scattering[c]) * column);
+      CHECK(std::exp(-fine[c]) == doctest::Approx(expected).epsilon(1e-5));
+      CHECK(looked_up[c] == doctest::Approx(expected).epsilon(5e-3));
+    }
+  }
+  // And the reference's march (a different, adaptive integrator) agrees on a slant path.
+  const glm::vec3 slant = glm::exp(-optical_depth(m, 0.0f, 0.3f, float(distance_to_sphere_exit(m.bottom_radius, 0.3, m.top_radius)), 4000));
+  const glm::vec3 lut_slant = lut.to_top(lut.row(0.0f), 0.3f);
+  for (int c = 0; c < 3; ++c) CHECK(lut_slant[c] == doctest::Approx(slant[c]).epsilon(5e-3));
+}
+
+TEST_CASE("the sun is shadowed by the planet with a smooth edge") {
+  AtmosphereModel m;
+  TransmittanceLut lut(m, 256, 64, 40);
+  lut.bake(0, lut.texel_count());
+  const float h = 10000.0f;
+  const TransmittanceRow row = lut.row(h);
+  CHECK(lut.sun(row, row.mu_horizon - 0.01f) == glm::vec3(0.0f));
+  CHECK(lut.sun(row, row.mu_horizon + 0.01f).x > 0.0f);
+  // Monotone across the penumbra.
+  float prev = -1.0f;
+  for (int i = 0; i <= 20; ++i) {
+    const float mu = row.mu_horizon + row.penumbra * (float(i) / 10.0f - 1.0f);
+    const float v = lut.sun(row, mu).x;
+    CHECK(v >= prev);
+    prev = v;
+  }
+}
+
+TEST_CASE("LUT mappings round-trip") {
+  AtmosphereModel m;
+  const TransmittanceMapping tm(m);
+  for (float x : {0.0f, 0.1f, 0.5f, 0.9f, 1.0f})
+    for (float y : {0.0f, 0.05f, 0.5f, 0.95f, 1.0f}) {
+      float h, mu;
+      tm.from_unit({x, y}, h, mu);
+      const glm::vec2 back = tm.to_unit(h, mu);
+      CAPTURE(x);
+      CAPTURE(y);
+      CHECK(back.x == doctest::Approx(x).epsilon(2e-3));
+      CHECK(back.y == doctest::Approx(y).epsilon(1e-3));
+    }
+  for (double altitude : {1.0, 1000.0, 50000.0}) {
+    const SkyViewMapping sm(m.bottom_radius, altitude);
+    for (float u : {0.0f, 0.2f, 0.7f, 1.0f})
+      for (float v : {0.02f, 0.3f, 0.49f, 0.51f, 0.8f, 0.98f}) {
+        double cz, cl;
+        sm.from_unit({u, v}, cz, cl);
+        const glm::vec2 back = sm.to_unit(float(cz), float(cl));
+        CAPTURE(altitude);
+        CAPTURE(u);
+        CAPTURE(v);
+        CHECK(back.x == doctest::Approx(u).epsilon(1e-3));
+        CHECK(back.y == doctest::Approx(v).epsilon(1e-3));
+      }
+    // The horizon is exactly at v = 0.5, between the two middle rows.
+    const double mu_h = horizon_mu(m.bottom_radius + altitude, m.bottom_radius);
+    CHECK(sm.to_unit(float(mu_h) + 1e-4f, 1.0f).y < 0.5f);
+    CHECK(sm.to_unit(float(mu_h) - 1e-4f, 1.0f).y > 0.5f);
+  }
+}
+
+TEST_CASE("bad atmosphere parameters are clear errors naming the field") {
+  auto message = [](const nlohmann::json& j) {
+    try {
+      parse_atmosphere_scene(j, "scene.json");
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  CHECK(message({{"preset", "earth-clear"}}).empty());
+  CHECK(message({{"preset", "mars-like"}, {"ground_altitude_m", 100}}).empty());
+  CHECK(message({{"preset", "venus"}}).find("atmosphere.preset") != std::string::npos);
+  CHECK(message({{"mie_g", 1.0}}).find("atmosphere.mie_g") != std::string::npos);
+  CHECK(message({{"mie_g", -1.5}}).find("|g|") != std::string::npos);
+  CHECK(message({{"rayleigh_scattering", {1e-6, -1e-6, 1e-6}}}).find("atmosphere.rayleigh_scattering") !=
+        std::string::npos);
+  CHECK(message({{"atmosphere_height_m", -10}}).find("atmosphere.atmosphere_height_m") != std::string::npos);
+  CHECK(message({{"colour", 1}}).find("atmosphere.colour: unknown key") != std::string::npos);
+  CHECK(message({{"mie_phase", "rayleigh"}}).find("atmosphere.mie_phase") != std::string::npos);
+  CHECK(message({{"ground_albedo", 1.5}}).find("atmosphere.ground_albedo") != std::string::npos);
+  CHECK(message(nlohmann::json::array()).find("must be a JSON object") != std::string::npos);
+  CHECK(parse_atmosphere_scene({{"preset", "earth-hazy"}}, "s").model.mie_scattering.x ==
+        doctest::Approx(10.0f * AtmosphereModel().mie_scattering.x));
+  CHECK(parse_atmosphere_scene({{"preset", "earth-dense"}}, "s").model.rayleigh_scattering.z ==
+        doctest::Approx(10.0f * AtmosphereModel().rayleigh_scattering.z));
+}
+
+TEST_CASE("profile settings: defaults, overrides and errors") {
+  const AtmosphereSettings d = parse_atmosphere_settings(nlohmann::json(), "p.json");
+  CHECK(d.transmittance_width == 256);
+  CHECK(d.schedule[size_t(LutKind::SkyView)].period == 4);
+  CHECK(d.schedule[size_t(LutKind::AerialPerspective)].period == 6);
+  const AtmosphereSettings s = parse_atmosphere_settings(
+      {{"skyview_lut", {{"width", 96}, {"height", 54}}}, {"schedule", {{"full", true}, {"skyview", {{"period", 8}, {"slices", 4}}}}}},
+      "p.json");
+  CHECK(s.skyview_width == 96);
+  CHECK(s.full_schedule);
+  CHECK(s.schedule[size_t(LutKind::SkyView)].slices == 4);
+  auto message = [](const nlohmann::json& j) {
+    try {
+      parse_atmosphere_settings(j, "p.json");
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  CHECK(message({{"skyview_lut", {{"height", 55}}}}).find("atmosphere.skyview_lut.height") != std::string::npos);
+  CHECK(message({{"schedule", {{"skyview", {{"period", 2}, {"slices", 4}}}}}}).find("atmosphere.schedule.skyview.slices") !=
+        std::string::npos);
+  CHECK(message({{"multiscattering_lut", {{"directions", 60}}}}).find("directions") != std::string::npos);
+  CHECK(message({{"transmittance_lut", {{"size", 3}}}}).find("atmosphere.transmittance_lut.size: unknown key") !=
+        std::string::npos);
+  CHECK(message({{"space_fallback_altitude_m", "high"}}).find("atmosphere.space_fallback_altitude_m") !=
+        std::string::npos);
+}

@@ -1,0 +1,258 @@
+// Multi-scattering against a brute-force evaluation, the composite and the
+// lighting's physical sanity, and the stability sweep.
+#include <doctest/doctest.h>
+
+#include <cmath>
+
+#include "atmosphere/multiscattering_lut.h"
+#include "atmosphere/phase_functions.h"
+#include "atmosphere/planet_geometry.h"
+#include "atmosphere/reference_renderer.h"
+#include "atmosphere/sky_composite.h"
+#include "atmosphere/sky_lighting.h"
+#include "atmosphere_test_util.h"
+
+using namespace cr;
+using namespace cr::test;
+
+namespace {
+
+float luminance(const glm::vec3& c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
+
+bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+// Psi_ms at one point by brute force: many random directions, fine steps and
+// the sun's transmittance marched directly (no LUT).
+glm::vec3 brute_force_psi(const AtmosphereModel& m, double altitude, double mu_s) {
+  const int n = 40;  // n*n directions, independent of the LUT's stratification
+  const int steps = 60;
+  const double R = m.bottom_radius;
+  const glm::dvec3 x0(0.0, R + altitude, 0.0);
+  const glm::dvec3 s(std::sqrt(1.0 - mu_s * mu_s), mu_s, 0.0);
+  glm::dvec3 l2(0.0), fms(0.0);
+  for (int a = 0; a < n; ++a)
+    for (int b = 0; b < n; ++b) {
+      const double cos_p = 1.0 - 2.0 * (b + 0.37) / n;
+      const double phi = 2.0 * M_PI * (a + 0.61) / n;
+      const double sin_p = std::sqrt(1.0 - cos_p * cos_p);
+      const glm::dvec3 d(sin_p * std::cos(phi), cos_p, sin_p * std::sin(phi));
+      const double r0 = R + altitude;
+      const double tg = distance_to_ground(r0, cos_p, R);
+      const double t_max = tg >= 0.0 ? tg : distance_to_sphere_exit(r0, cos_p, m.top_radius);
+      const double dt = t_max / steps;
+      glm::dvec3 throughput(1.0), l(0.0), f(0.0);
+      for (int k = 0; k < steps; ++k) {
+        const glm::dvec3 p = x0 + d * ((k + 0.5) * dt);
+        const MediumSample med = sample_medium(m, float(glm::length(p) - R));
+        const glm::dvec3 ext(med.extinction), sca(med.scattering);
+        const glm::dvec3 seg = (glm::dvec3(1.0) - glm::exp(-ext * dt)) / ext;
+        const glm::dvec3 sun = reference_transmittance(m, p, s);
+        l += throughput * sca * seg * sun / (4.0 * M_PI);
+        f += throughput * sca * seg;
+        throughput *= glm::exp(-ext * dt);
+      }
+      if (tg >= 0.0) {
+        const glm::dvec3 pg = x0 + d * tg;
+        const double mu_g = glm::dot(glm::normalize(pg), s);
+        if (mu_g > 0.0)
+          l += throughput * glm::dvec3(m.ground_albedo) / M_PI * reference_transmittance(m, pg, s) * mu_g;
+      }
+      l2 += l;
+      fms += f;
+    }
+  l2 /= double(n * n);
+  fms /= double(n * n);
+  return glm::vec3(l2 / (glm::dvec3(1.0) - fms));
+}
+
+}  // namespace
+
+TEST_CASE("multi-scattering LUT matches a brute-force evaluation of its integrals") {
+  const AtmosphereModel m;
+  TransmittanceLut t(m, 256, 64, 40);
+  t.bake(0, t.texel_count());
+  MultiScatteringLut ms(m, 32, 64, 20, 0.95f);
+  ms.bake(0, ms.texel_count(), t);
+  for (auto [h, mu_s] : {std::pair{0.0, 1.0}, std::pair{0.0, 0.2}, std::pair{3000.0 * 31.0 / 31.0, 0.6}}) {
+    // Texel-centred points: h = j/31 * 100 km, mu_s = i/31 * 2 - 1.
+    const double hh = std::round(h / (100e3 / 31.0)) * (100e3 / 31.0);
+    const double mm = std::round((mu_s + 1.0) / 2.0 * 31.0) / 31.0 * 2.0 - 1.0;
+    const glm::vec3 lut = ms.sample(float(hh), float(mm));
+    const glm::vec3 ref = brute_force_psi(m, hh, mm);
+    CAPTURE(hh);
+    CAPTURE(mm);
+    for (int c = 0; c < 3; ++c) CHECK(lut[c] == doctest::Approx(ref[c]).epsilon(0.04));
+  }
+  CHECK(ms.clamped_texels() == 0);
+  CHECK(ms.max_fms_seen() > 0.05f);
+  CHECK(ms.max_fms_seen() < 0.6f);
+}
+
+TEST_CASE("sky colours, sun disk and aerial perspective are physically sensible") {
+  JobSystem jobs(2);
+  LutScheduler s(small_settings());
+  const Camera cam = camera_at(2.0);
+  SUBCASE("noon: blue zenith, bright halo around the sun, sun disk attenuated but bright") {
+    const AtmospherePlan p = run_frame(s, 0, cam, sun_from_zenith(30.0), jobs);
+    const SkyFrame f = frame_of(s, p, cam);
+    const glm::vec3 zenith = sky_radiance(f, glm::vec3(0, 1, 0), false);
+    CHECK(zenith.z > zenith.x * 1.5f);
+    CHECK(luminance(zenith) > 1000.0f);   // a clear sky is some 10^3..10^4 cd/m^2
+    CHECK(luminance(zenith) < 20000.0f);
+    const glm::vec3 near_sun = glm::normalize(f.sun + glm::vec3(0.0f, 0.0f, 0.05f));
+    const glm::vec3 away = glm::normalize(glm::vec3(-f.sun.x, f.sun.y, 0.3f));
+    CHECK(luminance(sky_radiance(f, near_sun, false)) > 2.0f * luminance(sky_radiance(f, away, false)));
+    const glm::vec3 disk = sky_radiance(f, f.sun, true) - sky_radiance(f, f.sun, false);
+    CHECK(luminance(disk) > 1e8f);
+    CHECK(luminance(disk) < 2e9f);
+    // Limb darkening: the edge of the disk is darker than its centre.
+    const float edge = 0.95f * f.model.sun_angular_radius;
+    const glm::vec3 to_edge = glm::normalize(f.sun + glm::vec3(0.0f, 0.0f, std::tan(edge)));
+    CHECK(luminance(sun_disk_radiance(f, to_edge)) < 0.8f * luminance(sun_disk_radiance(f, f.sun)));
+    // Aerial perspective: far objects fade (T < 1) and gain in-scattered light; near ones barely change.
+    const glm::vec3 dir = glm::normalize(glm::vec3(1.0f, -0.01f, 0.2f));
+    const glm::vec3 black_far = apply_aerial_perspective(f, dir, 50000.0f, glm::vec3(0.0f));
+    const glm::vec3 black_near = apply_aerial_perspective(f, dir, 10.0f, glm::vec3(0.0f));
+    CHECK(luminance(black_far) > 100.0f * luminance(black_near));
+    const glm::vec3 white_far = apply_aerial_perspective(f, dir, 50000.0f, glm::vec3(1000.0f));
+    CHECK(white_far.z - black_far.z < white_far.x - black_far.x);  // blue is extinguished more than red
+    // Beyond the froxel range the march continues smoothly.
+    const float range = f.aerial_perspective->range();
+    const float a = luminance(apply_aerial_perspective(f, dir, range * 0.999f, glm::vec3(0.0f)));
+    const float b = luminance(apply_aerial_perspective(f, dir, range * 1.001f, glm::vec3(0.0f)));
+    CHECK(b == doctest::Approx(a).epsilon(0.02));
+  }
+  SUBCASE("sunset: reddened sun, darker sky; night: no sun light at all") {
+    const AtmospherePlan p = run_frame(s, 0, cam, sun_from_zenith(89.0), jobs);
+    const SkyFrame f = frame_of(s, p, cam);
+    LightEnvironment light;
+    fill_light_environment(f, light);
+    CHECK(light.sun_illuminance.x > light.sun_illuminance.z * 2.0f);
+    CHECK(light.sun_illuminance.x < 110000.0f * 0.5f);
+    const AtmospherePlan n = run_frame(s, 1, cam, sun_from_zenith(120.0), jobs);
+    const SkyFrame night = frame_of(s, n, cam);
+    LightEnvironment dark;
+    fill_light_environment(night, dark);
+    CHECK(dark.sun_illuminance == glm::vec3(0.0f));
+    CHECK(dark.sun_at(glm::vec3(100.0f, 0.0f, 50.0f)) == glm::vec3(0.0f));
+    CHECK(luminance(sky_radiance(night, glm::vec3(0, 1, 0), true)) < 1e-3f * 110000.0f);
+  }
+  SUBCASE("lighting: sun_at follows altitude, ambient SH is the sky's mean radiance") {
+    const AtmospherePlan p = run_frame(s, 0, cam, sun_from_zenith(60.0), jobs);
+    const SkyFrame f = frame_of(s, p, cam);
+    LightEnvironment light;
+    fill_light_environment(f, light);
+    const glm::vec3 ground = light.sun_at(glm::vec3(0.0f));
+    const glm::vec3 peak = light.sun_at(glm::vec3(0.0f, 8000.0f, 0.0f));
+    CHECK(peak.z > ground.z);  // less air above a mountain top
+    CHECK(ground.x == doctest::Approx(light.sun_illuminance.x).epsilon(0.01));
+    // Y00 * c00 is the sphere-mean radiance: compare with a direct average of the sky.
+    glm::vec3 mean(0.0f);
+    const int n = 64;
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < 2 * n; ++j) {
+        const float ct = 1.0f - 2.0f * (float(i) + 0.5f) / float(n);
+        const float st = std::sqrt(1.0f - ct * ct);
+        const float ph = kPi * (float(j) + 0.5f) / float(n);
+        mean += sky_radiance(f, glm::vec3(st * std::cos(ph), ct, st * std::sin(ph)), false);
+      }
+    mean /= float(2 * n * n);
+    for (int c = 0; c < 3; ++c) CHECK(light.ambient_sh[0][c] * 0.282095f == doctest::Approx(mean[c]).epsilon(0.05));
+  }
+}
+
+TEST_CASE("stability sweep: finite, bounded outputs everywhere") {
+  JobSystem jobs(2);
+  struct Variant {
+    const char* name;
+    AtmosphereModel model;
+  };
+  std::vector<Variant> variants;
+  variants.push_back({"earth", AtmosphereModel()});
+  for (float scale : {0.01f, 100.0f}) {
+    AtmosphereModel m;
+    m.rayleigh_scattering *= scale;
+    m.mie_scattering *= scale;
+    m.mie_absorption *= scale;
+    m.ozone_absorption *= scale;
+    variants.push_back({scale < 1.0f ? "density x0.01" : "density x100", m});
+  }
+  for (float g : {-0.99f, 0.99f}) {
+    AtmosphereModel m;
+    m.mie_g = g;
+    m.mie_scattering *= 10.0f;
+    variants.push_back({g < 0.0f ? "mie g -0.99" : "mie g 0.99", m});
+  }
+  {
+    AtmosphereModel m;
+    m.rayleigh_scattering *= 100.0f;  // scattering-only: f_ms -> 1
+    m.ozone_absorption = glm::vec3(0.0f);
+    m.mie_absorption = glm::vec3(0.0f);
+    m.ground_albedo = glm::vec3(1.0f);
+    variants.push_back({"conservative dense", m});
+  }
+  const std::vector<double> zeniths{0.0, 45.0, 89.5, 95.0, 135.0, 180.0};
+  const std::vector<double> altitudes{-50.0, 0.05, 1.0, 3000.0, 99e3, 150e3, 1e6};
+  std::vector<glm::vec3> dirs;
+  for (int i = 0; i < 24; ++i) {
+    const float e = (90.0f - 180.0f * (float(i) + 0.5f) / 24.0f) * kPi / 180.0f;
+    const float a = float(i) * 2.1f;
+    dirs.push_back(glm::vec3(std::cos(e) * std::cos(a), std::sin(e), std::cos(e) * std::sin(a)));
+  }
+  for (const Variant& v : variants) {
+    AtmosphereSettings settings = small_settings();
+    settings.full_schedule = true;
+    LutScheduler s(settings);
+    s.set_model(v.model);
+    int frame = 0;
+    for (double alt : altitudes)
+      for (double zen : zeniths) {
+        CAPTURE(v.name);
+        CAPTURE(alt);
+        CAPTURE(zen);
+        const Camera cam = camera_at(alt);
+        const AtmospherePlan p = run_frame(s, frame++, cam, sun_from_zenith(zen), jobs);
+        const SkyFrame f = frame_of(s, p, cam);
+        REQUIRE(f.valid);
+        for (const glm::vec3& d : dirs) {
+          const glm::vec3 l = sky_radiance(f, d, true);
+          CHECK(finite(l));
+          CHECK(glm::all(glm::greaterThanEqual(l, glm::vec3(0.0f))));
+          CHECK(luminance(sky_radiance(f, d, false)) < 2e6f);  // bounded (sun disk excluded)
+          for (float dist : {1.0f, 500.0f, 60000.0f, 400000.0f}) {
+            const glm::vec3 c = apply_aerial_perspective(f, d, dist, glm::vec3(1000.0f));
+            CHECK(finite(c));
+            CHECK(glm::all(glm::greaterThanEqual(c, glm::vec3(0.0f))));
+          }
+        }
+        LightEnvironment light;
+        fill_light_environment(f, light);
+        CHECK(finite(light.sun_illuminance));
+        for (const glm::vec3& c : light.ambient_sh) CHECK(finite(c));
+        for (const glm::vec3& t : s.aerial_perspective() ? s.aerial_perspective()->transmittance().texels
+                                                         : std::vector<glm::vec3>{})
+          CHECK(glm::all(glm::lessThanEqual(t, glm::vec3(1.0f))));
+      }
+    if (std::string(v.name) == "conservative dense") {
+      CHECK(s.multiscattering()->clamped_texels() > 0);  // f_ms clamped, and reported
+      CHECK(s.report(run_frame(s, frame, camera_at(1.0), sun_from_zenith(30.0), jobs))["multiscattering_clamped_texels"]
+                .get<int>() > 0);
+    }
+  }
+}
+
+TEST_CASE("the sky is smooth across the horizon and around the zenith") {
+  JobSystem jobs(1);
+  LutScheduler s(AtmosphereSettings{});
+  const Camera cam = camera_at(2.0);
+  const AtmospherePlan p = run_frame(s, 0, cam, sun_from_zenith(60.0), jobs);
+  const SkyFrame f = frame_of(s, p, cam);
+  // Elevation sweep above the horizon: neighbouring samples (0.25 deg apart) never jump.
+  float prev = -1.0f;
+  for (int i = 4; i < 360; ++i) {
+    const float e = float(i) * 0.25f * kPi / 180.0f;
+    const float l = luminance(sky_radiance(f, glm::vec3(-std::cos(e), std::sin(e), 0.0f) , false));
+    if (prev > 0.0f) CHECK(std::abs(l - prev) < 0.08f * prev);
+    prev = l;
+  }
+}
