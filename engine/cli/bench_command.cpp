@@ -59,9 +59,7 @@ int bench_command(const std::vector<std::string>& args, const PluginRegistry& re
   const int frames = p.get_int("frames", 1, 100000), warmup = p.get_int("warmup", 0, 1000);
   const unsigned max_threads =
       p.has("threads") ? unsigned(p.get_int("threads", 1, 1024)) : JobSystem::default_thread_count();
-  int w = 1280, h = 720;
-  if (std::sscanf(p.get("resolution").c_str(), "%dx%d", &w, &h) != 2 || w < 1 || h < 1 || w > 16384 || h > 16384)
-    throw UsageError("bench: --resolution expects WxH");
+  const auto [w, h] = parse_resolution(p.get("resolution"), "bench");
 
   std::vector<std::string> scenes;
   if (!p.has("no-default")) scenes.push_back(default_scene_path());

@@ -9,6 +9,7 @@
 #include "engine/cli/cli_common.h"
 #include "engine/cli/commands.h"
 #include "engine/cli/compare_command.h"
+#include "engine/cli/golden_command.h"
 #include "engine/core/error.h"
 #include "engine/render/plugin.h"
 
@@ -29,6 +30,8 @@ std::vector<Command> all_commands(const PluginRegistry& registry) {
        [&](const auto& a) { return bench_command(a, registry); }},
       {"compare", "compare two images (PNG/EXR): metrics, FLIP, pass/fail, diff image",
        [](const auto& a) { return compare_command(a); }},
+      {"golden", "golden-image check of every scene and profile (1 vs N threads bit-exact); --update",
+       [&](const auto& a) { return golden_command(a, registry); }},
   };
   for (const PluginCommand& c : registry.commands()) cmds.push_back({c.name, c.summary, c.run});
   return cmds;

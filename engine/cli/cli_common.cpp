@@ -1,5 +1,7 @@
 #include "engine/cli/cli_common.h"
 
+#include <cstdio>
+
 #include "engine/cli/paths.h"
 #include "engine/core/error.h"
 #include "engine/output/exr_io.h"
@@ -16,21 +18,11 @@ void add_scene_options(ArgParser& p) {
       .flag("allow-missing-images", "render with factor-only materials where image files are missing");
 }
 
-static std::pair<int, int> parse_resolution(const std::string& s) {
-  const size_t x = s.find('x');
+std::pair<int, int> parse_resolution(const std::string& text, const std::string& command) {
   int w = 0, h = 0;
-  try {
-    if (x != std::string::npos) {
-      size_t a = 0, b = 0;
-      w = std::stoi(s.substr(0, x), &a);
-      h = std::stoi(s.substr(x + 1), &b);
-      if (a != x || b != s.size() - x - 1) w = h = 0;
-    }
-  } catch (const std::exception&) {
-    w = h = 0;
-  }
-  if (w < 1 || h < 1 || w > 16384 || h > 16384)
-    throw UsageError("--resolution expects WxH with 1..16384 each, got '" + s + "'");
+  char tail = 0;
+  if (std::sscanf(text.c_str(), "%dx%d%c", &w, &h, &tail) != 2 || w < 1 || h < 1 || w > 16384 || h > 16384)
+    throw UsageError(command + ": --resolution expects WxH with 1..16384 each, got '" + text + "'");
   return {w, h};
 }
 
@@ -54,7 +46,7 @@ RunSetup load_run(const std::string& scene_path, const std::string& profile, con
 
 RunSetup load_run_setup(const ArgParser& p, const PluginRegistry& registry) {
   int w = 0, h = 0;
-  if (p.has("resolution")) std::tie(w, h) = parse_resolution(p.get("resolution"));
+  if (p.has("resolution")) std::tie(w, h) = parse_resolution(p.get("resolution"), "render");
   const unsigned threads = p.has("threads") ? unsigned(p.get_int("threads", 1, 1024)) : 0;
   const std::string scene = p.positional().empty() ? default_scene_path() : p.positional()[0];
   RunSetup s = load_run(scene, p.get("profile"), registry, w, h, threads, p.has("allow-missing-images"));

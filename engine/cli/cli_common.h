@@ -23,6 +23,8 @@ struct RunSetup {
   int frames = 1;
 };
 
+// "WxH" with 1..16384 each; UsageError naming `command` otherwise.
+std::pair<int, int> parse_resolution(const std::string& text, const std::string& command);
 // --profile, --resolution, --frames, --threads, --allow-missing-images.
 void add_scene_options(ArgParser& p);
 // Loads scene (positional 0 or the default scene), profile and glTF, applying overrides.

@@ -49,8 +49,14 @@ std::vector<GoldenCase> discover_golden_cases(const std::string& scenes_dir,
   const std::vector<fs::path> profiles = json_files(profiles_dir, "profiles");
   std::vector<GoldenCase> cases;
   for (const fs::path& scene : scenes) {
-    const SceneDescription d = load_scene_description(scene.string(), plugin_sections);
-    const int last = golden_last_frame(d.frames, !d.plugins.empty());
+    int last = 0;
+    std::string error;
+    try {
+      const SceneDescription d = load_scene_description(scene.string(), plugin_sections);
+      last = golden_last_frame(d.frames, !d.plugins.empty());
+    } catch (const Error& e) {
+      error = e.what();
+    }
     for (const fs::path& profile : profiles) {
       GoldenCase c;
       c.scene = scene.stem().string();
@@ -58,6 +64,7 @@ std::vector<GoldenCase> discover_golden_cases(const std::string& scenes_dir,
       c.scene_path = scene.string();
       c.profile_path = profile.string();
       c.last_frame = last;
+      c.error = error;
       c.kept_frames = last > 0 ? std::vector<int>{0, last} : std::vector<int>{0};
       cases.push_back(std::move(c));
     }
@@ -73,15 +80,23 @@ std::vector<GoldenCase> filter_golden_cases(const std::vector<GoldenCase>& cases
 }
 
 std::vector<std::string> find_stale_goldens(const std::string& dir, const std::vector<GoldenCase>& cases) {
-  std::set<std::string> expected;
-  for (const GoldenCase& c : cases)
+  std::set<std::string> expected, unknown_frames;
+  for (const GoldenCase& c : cases) {
     for (int f : c.kept_frames) expected.insert(golden_file_name(c, f));
+    if (!c.error.empty()) unknown_frames.insert(c.name() + ".f");
+  }
+  auto is_expected = [&](const std::string& name) {
+    if (expected.count(name)) return true;
+    for (const std::string& prefix : unknown_frames)
+      if (name.rfind(prefix, 0) == 0) return true;
+    return false;
+  };
   std::vector<std::string> stale;
   std::error_code ec;
   if (!fs::is_directory(dir, ec)) return stale;
   for (const fs::directory_entry& e : fs::directory_iterator(dir)) {
     const std::string name = e.path().filename().string();
-    if (e.is_regular_file() && e.path().extension() == ".png" && !expected.count(name)) stale.push_back(name);
+    if (e.is_regular_file() && e.path().extension() == ".png" && !is_expected(name)) stale.push_back(name);
   }
   std::sort(stale.begin(), stale.end());
   return stale;

@@ -21,6 +21,7 @@ struct GoldenCase {
   std::string profile_path;
   int last_frame = 0;        // frames 0..last_frame are rendered
   std::vector<int> kept_frames;  // compared with goldens: {0} or {0, last_frame}
+  std::string error;             // why the scene file could not be loaded (the case is then an error)
 
   std::string name() const { return scene + "." + profile; }
 };
@@ -34,8 +35,9 @@ std::string golden_file_name(const GoldenCase& c, int frame);
 
 // Every (scene, profile) pair of the *.json files in the two directories,
 // sorted by scene then profile. Scene files are loaded (not their glTF) to
-// learn their frame counts. Throws InputError for a missing directory, a
-// directory without .json files, or an invalid scene file.
+// learn their frame counts; an invalid one gives cases carrying its error, so
+// the other cases still run. Throws InputError for a missing directory or a
+// directory without .json files.
 std::vector<GoldenCase> discover_golden_cases(const std::string& scenes_dir,
                                               const std::string& profiles_dir,
                                               const std::vector<std::string>& plugin_sections);
@@ -45,7 +47,8 @@ std::vector<GoldenCase> filter_golden_cases(const std::vector<GoldenCase>& cases
                                             const std::string& pattern);
 
 // PNG files in `dir` that are no case's golden (sorted names; empty when the
-// directory does not exist).
+// directory does not exist). Any frame of a case whose scene failed to load
+// counts as its golden: its frames are unknown.
 std::vector<std::string> find_stale_goldens(const std::string& dir, const std::vector<GoldenCase>& cases);
 
 }  // namespace cr
