@@ -78,13 +78,16 @@ void JobSystem::push(std::vector<Task> tasks) {
   work_cv_.notify_all();
 }
 
-bool JobSystem::try_run_one() {
+bool JobSystem::try_run_one(const void* batch) {
   Task task;
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    if (queue_.empty()) return false;
-    task = std::move(queue_.front());
-    queue_.pop_front();
+    auto it = queue_.begin();
+    if (batch)
+      while (it != queue_.end() && it->batch != batch) ++it;
+    if (it == queue_.end()) return false;
+    task = std::move(*it);
+    queue_.erase(it);
   }
   task.fn();
   return true;
@@ -106,10 +109,10 @@ void JobSystem::worker_loop(uint32_t index) {
 }
 
 // Runs queued work until `remaining` reaches zero. Helping (instead of just
-// sleeping) is what makes nested parallel_for calls deadlock-free.
-static void wait_helping(JobSystem& js, std::atomic<size_t>& remaining, std::mutex& m,
-                         std::condition_variable& cv, const std::function<bool()>& run_one) {
-  (void)js;
+// sleeping) is what makes nested parallel_for calls deadlock-free: the
+// waiter can always run its own loop's remaining chunks itself.
+static void wait_helping(std::atomic<size_t>& remaining, std::mutex& m, std::condition_variable& cv,
+                         const std::function<bool()>& run_one) {
   while (remaining.load(std::memory_order_acquire) != 0) {
     if (run_one()) continue;
     std::unique_lock<std::mutex> lock(m);
@@ -123,19 +126,21 @@ void JobSystem::parallel_for(const std::string& name, size_t count, size_t grain
   if (count == 0) return;
   grain = std::max<size_t>(1, grain);
   const size_t chunks = (count + grain - 1) / grain;
-  auto batch = std::make_shared<Batch>();
-  batch->remaining.store(chunks);
+  // The batch lives on this stack: the caller returns only when every chunk
+  // has counted down, and a chunk touches the batch only before that.
+  Batch batch;
+  batch.remaining.store(chunks);
 
-  auto run_chunk = [this, batch, &body, &name, count, grain](size_t c) {
+  auto run_chunk = [this, &batch, &body, &name, count, grain](size_t c) {
     const size_t b = c * grain, e = std::min(count, b + grain);
     const double t0 = now_us();
     try {
       body(b, e);
     } catch (...) {
-      batch->fail(c, std::current_exception());
+      batch.fail(c, std::current_exception());
     }
     record(name, t0, now_us());
-    if (batch->remaining.fetch_sub(1, std::memory_order_acq_rel) == 1) {
+    if (batch.remaining.fetch_sub(1, std::memory_order_acq_rel) == 1) {
       std::lock_guard<std::mutex> lock(mutex_);
       done_cv_.notify_all();
     }
@@ -146,12 +151,12 @@ void JobSystem::parallel_for(const std::string& name, size_t count, size_t grain
   } else {
     std::vector<Task> tasks;
     tasks.reserve(chunks - 1);
-    for (size_t c = 1; c < chunks; ++c) tasks.push_back({[run_chunk, c] { run_chunk(c); }});
+    for (size_t c = 1; c < chunks; ++c) tasks.push_back({[run_chunk, c] { run_chunk(c); }, &batch});
     push(std::move(tasks));
     run_chunk(0);
-    wait_helping(*this, batch->remaining, mutex_, done_cv_, [this] { return try_run_one(); });
+    wait_helping(batch.remaining, mutex_, done_cv_, [this, &batch] { return try_run_one(&batch); });
   }
-  if (batch->error) std::rethrow_exception(batch->error);
+  if (batch.error) std::rethrow_exception(batch.error);
 }
 
 JobSystem::Graph::Id JobSystem::Graph::add(std::string name, std::function<void()> fn,
@@ -163,55 +168,61 @@ JobSystem::Graph::Id JobSystem::Graph::add(std::string name, std::function<void(
   return id;
 }
 
+// The state of one run(): on the caller's stack, which outlives every job
+// (a job touches it only before its final count-down).
+struct JobSystem::GraphRun {
+  const Graph& graph;
+  std::vector<std::vector<size_t>> dependents;
+  std::unique_ptr<std::atomic<size_t>[]> pending;
+  std::unique_ptr<std::atomic<bool>[]> skipped;  // a dependency failed
+  Batch batch;
+};
+
+void JobSystem::run_graph_node(GraphRun* run, size_t i) {
+  const auto& node = run->graph.nodes_[i];
+  if (!run->skipped[i].load()) {
+    const double t0 = now_us();
+    try {
+      node.fn();
+    } catch (...) {
+      run->batch.fail(i, std::current_exception());
+      for (size_t d : run->dependents[i]) run->skipped[d].store(true);
+    }
+    record(node.name, t0, now_us());
+  } else {
+    for (size_t d : run->dependents[i]) run->skipped[d].store(true);
+  }
+  std::vector<Task> ready;
+  for (size_t d : run->dependents[i])
+    if (run->pending[d].fetch_sub(1, std::memory_order_acq_rel) == 1)
+      ready.push_back({[this, run, d] { run_graph_node(run, d); }, nullptr});
+  if (!ready.empty()) push(std::move(ready));
+  if (run->batch.remaining.fetch_sub(1, std::memory_order_acq_rel) == 1) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    done_cv_.notify_all();
+  }
+}
+
 void JobSystem::run(const Graph& graph) {
   const size_t n = graph.nodes_.size();
   if (n == 0) return;
-  // Dependencies always point backwards (checked in add), so the graph is acyclic.
-  std::vector<std::vector<size_t>> dependents(n);
-  auto pending = std::make_unique<std::atomic<size_t>[]>(n);
+  // Dependencies always point backwards (checked in add), so the graph is
+  // acyclic. A job whose dependency failed is skipped (but still counts down)
+  // so the run always terminates; the first error is rethrown.
+  GraphRun run{graph, std::vector<std::vector<size_t>>(n), std::make_unique<std::atomic<size_t>[]>(n),
+               std::make_unique<std::atomic<bool>[]>(n), {}};
   for (size_t i = 0; i < n; ++i) {
-    pending[i].store(graph.nodes_[i].deps.size());
-    for (size_t d : graph.nodes_[i].deps) dependents[d].push_back(i);
+    run.pending[i].store(graph.nodes_[i].deps.size());
+    run.skipped[i].store(false);
+    for (size_t d : graph.nodes_[i].deps) run.dependents[d].push_back(i);
   }
-  auto batch = std::make_shared<Batch>();
-  batch->remaining.store(n);
-
-  // A job whose dependency failed is skipped (but still completes) so the run
-  // always terminates; the first error is rethrown.
-  std::function<void(size_t)> run_node;
-  auto skipped = std::make_unique<std::atomic<bool>[]>(n);
-  for (size_t i = 0; i < n; ++i) skipped[i].store(false);
-  run_node = [&](size_t i) {
-    const auto& node = graph.nodes_[i];
-    if (!skipped[i].load()) {
-      const double t0 = now_us();
-      try {
-        node.fn();
-      } catch (...) {
-        batch->fail(i, std::current_exception());
-        for (size_t d : dependents[i]) skipped[d].store(true);
-      }
-      record(node.name, t0, now_us());
-    } else {
-      for (size_t d : dependents[i]) skipped[d].store(true);
-    }
-    std::vector<Task> ready;
-    for (size_t d : dependents[i])
-      if (pending[d].fetch_sub(1, std::memory_order_acq_rel) == 1)
-        ready.push_back({[&run_node, d] { run_node(d); }});
-    if (!ready.empty()) push(std::move(ready));
-    if (batch->remaining.fetch_sub(1, std::memory_order_acq_rel) == 1) {
-      std::lock_guard<std::mutex> lock(mutex_);
-      done_cv_.notify_all();
-    }
-  };
-
+  run.batch.remaining.store(n);
   std::vector<Task> roots;
   for (size_t i = 0; i < n; ++i)
-    if (graph.nodes_[i].deps.empty()) roots.push_back({[&run_node, i] { run_node(i); }});
+    if (graph.nodes_[i].deps.empty()) roots.push_back({[this, r = &run, i] { run_graph_node(r, i); }, nullptr});
   push(std::move(roots));
-  wait_helping(*this, batch->remaining, mutex_, done_cv_, [this] { return try_run_one(); });
-  if (batch->error) std::rethrow_exception(batch->error);
+  wait_helping(run.batch.remaining, mutex_, done_cv_, [this] { return try_run_one(nullptr); });
+  if (run.batch.error) std::rethrow_exception(run.batch.error);
 }
 
 }  // namespace cr

@@ -5,8 +5,10 @@
 // only *when*. Callers partition output so every element is written by exactly
 // one job, and any reduction is done afterwards in index order.
 //
-// Waiting threads help: a thread blocked in run()/parallel_for() executes
-// queued jobs, so jobs may themselves call parallel_for without deadlock.
+// Waiting threads help: a thread blocked in parallel_for() executes the
+// queued chunks of that same loop (so jobs may call parallel_for without
+// deadlock, and a pass's wall time never includes another pass's jobs); a
+// thread blocked in run() executes any queued job.
 // An exception thrown by a job is captured and rethrown to the caller (the one
 // from the lowest job/chunk index, so the reported error is deterministic).
 #include <chrono>
@@ -75,9 +77,13 @@ class JobSystem {
  private:
   struct Task {
     std::function<void()> fn;
+    const void* batch = nullptr;  // the parallel_for the task belongs to (null: a graph job)
   };
+  struct GraphRun;
+  void run_graph_node(GraphRun* run, size_t index);
   void worker_loop(uint32_t index);
-  bool try_run_one();
+  // Runs one queued task; when `batch` is set, only a task of that batch.
+  bool try_run_one(const void* batch);
   void push(std::vector<Task> tasks);
   void record(const std::string& name, double begin, double end);
 
