@@ -88,7 +88,7 @@ FogProfileSettings parse_fog_profile(const nlohmann::json& section, const std::s
   FogProfileSettings s;
   const JsonObject o(section, file, "fog");
   o.allow_only({"froxel_size_px", "slices", "fog_distance", "slice_uniformity", "history_weight", "filter",
-                "jitter", "reprojection"});
+                "jitter", "reprojection", "history_clamp"});
   if (o.has("froxel_size_px")) s.froxel_size_px = o.integer("froxel_size_px", 1, 256);
   if (o.has("slices")) s.slices = o.integer("slices", 1, 1024);
   if (o.has("fog_distance")) s.fog_distance = float(o.number("fog_distance", {0.01, 1e7}));
