@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "engine/core/error.h"
-#include "engine/output/srgb.h"
+#include "engine/core/srgb.h"
 
 namespace cr {
 namespace {

@@ -13,7 +13,7 @@
 #include "engine/output/color_map.h"
 #include "engine/output/exr_io.h"
 #include "engine/output/png_io.h"
-#include "engine/output/srgb.h"
+#include "engine/core/srgb.h"
 
 namespace cr {
 namespace {

@@ -5,7 +5,7 @@
 
 #include "engine/core/error.h"
 #include "engine/output/atomic_file.h"
-#include "engine/output/srgb.h"
+#include "engine/core/srgb.h"
 
 // Private copies of stb: libtinygltf.so also carries stb_image symbols, so
 // these are made file-local (static) to avoid clashing definitions.

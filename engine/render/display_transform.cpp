@@ -5,7 +5,7 @@
 #include <cmath>
 #include <limits>
 
-#include "engine/shading/srgb.h"
+#include "engine/core/srgb.h"
 #include "engine/shading/tonemap.h"
 
 namespace cr {

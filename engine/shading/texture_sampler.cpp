@@ -6,7 +6,7 @@
 #include <limits>
 
 #include "engine/shading/small_floor.h"
-#include "engine/shading/srgb.h"
+#include "engine/core/srgb.h"
 
 namespace cr {
 namespace {

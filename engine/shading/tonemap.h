@@ -9,7 +9,7 @@
 
 #include <glm/glm.hpp>
 
-#include "engine/shading/srgb.h"
+#include "engine/core/srgb.h"
 
 namespace cr {
 
@@ -31,12 +31,6 @@ inline float tonemap_aces(float x) {
   return y < 1.0f ? y : 1.0f;
 }
 
-// Rounds a display value in [0, 1] to 8 bits (clamped, NaN -> 0).
-inline uint8_t quantize_unorm8(float v) {
-  if (!(v > 0.0f)) return 0;
-  if (v >= 1.0f) return 255;
-  return uint8_t(v * 255.0f + 0.5f);
-}
 
 // One pixel: linear radiance (cd/m^2) to sRGB-encoded 8-bit RGB.
 inline void resolve_pixel(const glm::vec3& radiance, float exposure, uint8_t* rgb_out) {

@@ -5,7 +5,7 @@
 
 #include "engine/core/error.h"
 #include "engine/output/flip.h"
-#include "engine/output/srgb.h"
+#include "engine/core/srgb.h"
 
 namespace {
 

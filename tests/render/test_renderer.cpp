@@ -29,7 +29,8 @@ Loaded load(const std::string& scene_file, int w, int h) {
   return l;
 }
 
-const std::string kDefaultScene = std::string(CR_BINARY_DIR) + "/scenes/default.json";
+// The village without plugins: this area tests the engine alone.
+const std::string kDefaultScene = std::string(CR_BINARY_DIR) + "/scenes/engine_only.json";
 const std::string kBox = std::string(CR_ASSIMP_GLTF_DIR) + "/BoxTextured-glTF/BoxTextured.gltf";
 
 std::vector<glm::vec3> render_colour(const Loaded& l, unsigned threads, int frames = 1) {

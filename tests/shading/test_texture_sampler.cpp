@@ -5,7 +5,7 @@
 #include <limits>
 
 #include "engine/shading/small_floor.h"
-#include "engine/shading/srgb.h"
+#include "engine/core/srgb.h"
 #include "engine/shading/texture_sampler.h"
 
 using namespace cr;

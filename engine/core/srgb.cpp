@@ -1,4 +1,4 @@
-#include "engine/shading/srgb.h"
+#include "engine/core/srgb.h"
 
 #include <algorithm>
 #include <cmath>
