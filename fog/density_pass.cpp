@@ -13,6 +13,8 @@ FroxelView make_froxel_view(const FroxelGrid& grid, const Camera& camera, JobSys
   v.grid = grid;
   v.camera = camera;
   v.directions.resize(grid.columns());
+  v.active_slices.assign(grid.columns(), uint16_t(grid.nz()));
+  v.lit_slices.assign(grid.columns(), uint16_t(grid.nz()));
   const int nx = grid.nx();
   jobs.parallel_for("fog.columns", size_t(grid.ny()), 8, [&](size_t begin, size_t end) {
     for (size_t y = begin; y < end; ++y)
@@ -87,14 +89,16 @@ VoxelizeStats voxelize_density(const FroxelView& view, const FogMedium& medium, 
   jobs.parallel_for("fog.density", size_t(g.ny()), 1, [&](size_t begin, size_t end) {
     for (int y = int(begin); y < int(end); ++y)
       for (int x = 0; x < nx; ++x) {
-        const glm::vec3 dir = view.directions[size_t(y) * nx + x];
+        const size_t c = size_t(y) * nx + x;
+        const glm::vec3 dir = view.directions[c];
+        const int n = view.lit_slices[c];
         FogDensity* column = density.data() + g.index(x, y, 0);
-        for (int k = 0; k < nz; ++k) column[k] = medium.height_fog(dir * centers[size_t(k)]);
+        medium.height_fog_column(dir, centers.data(), n, column);
         // Volumes in file order: the blend result does not depend on scheduling.
         for (const VolumeFootprint& f : footprints) {
           if (x < f.x0 || x > f.x1 || y < f.y0 || y > f.y1) continue;
           const PlacedFogVolume& v = medium.volumes()[size_t(f.volume)];
-          for (int k = f.k0; k <= f.k1; ++k) medium.apply_volume(v, dir * centers[size_t(k)], column[k]);
+          for (int k = f.k0; k <= std::min(f.k1, n - 1); ++k) medium.apply_volume(v, dir * centers[size_t(k)], column[k]);
         }
       }
   });

@@ -102,7 +102,7 @@ std::vector<glm::vec3> froxel_frame(FroxelFog& fog, const FrameView& view, const
                                     FroxelTimes* times) {
   FroxelTimes t;
   auto t0 = std::chrono::steady_clock::now();
-  fog.begin_frame(view, jobs);
+  fog.begin_frame(view, jobs, &base.buffers().distance);
   fog.density(jobs);
   t.density = ms_since(t0);
   t0 = std::chrono::steady_clock::now();

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "fog/fast_exp.h"
 #include "fog/value_noise.h"
 
 namespace cr {
@@ -12,6 +13,7 @@ FogMedium::FogMedium(const FogSceneSettings& settings) : settings_(settings) {
   // exp(-d / H) = 0.001 gives H = d / ln(1000) = 0.144765 d.
   const float layer = std::max(0.01f, settings.max_height - settings.base_height);
   inv_scale_height_ = 1.0f / (layer * 0.144765f);
+  cutoff_above_ = 2.0f * layer;  // exp(-2 ln 1000) = 1e-6
 }
 
 void FogMedium::set_camera(const glm::dvec3& camera_position) {
@@ -38,10 +40,35 @@ FogDensity FogMedium::height_fog(const glm::vec3& rel) const {
   FogDensity d;
   if (!settings_.height_fog) return d;
   const float above = std::max(rel.y - base_rel_, 0.0f);
-  const float m = std::exp(-above * inv_scale_height_);
+  const float m = above > cutoff_above_ ? 0.0f : fast_exp(-above * inv_scale_height_);
   d.extinction = settings_.extinction * m;
   d.scattering = settings_.albedo * d.extinction;
   return d;
+}
+
+void FogMedium::height_fog_column(const glm::vec3& dir, const float* t, int n, FogDensity* out) const {
+  if (!settings_.height_fog) {
+    for (int k = 0; k < n; ++k) out[k] = FogDensity{};
+    return;
+  }
+  const glm::vec3 albedo = settings_.albedo;
+  const float extinction = settings_.extinction;
+  // Blocks of slices: the extinction loop is branch-free over a flat float
+  // array (vectorised), then the records are filled.
+  constexpr int kBlock = 64;
+  float e[kBlock];
+  for (int k0 = 0; k0 < n; k0 += kBlock) {
+    const int m = std::min(kBlock, n - k0);
+    for (int j = 0; j < m; ++j) {
+      const float above = std::max(dir.y * t[k0 + j] - base_rel_, 0.0f);
+      const float density = above > cutoff_above_ ? 0.0f : fast_exp(-above * inv_scale_height_);
+      e[j] = extinction * density;
+    }
+    for (int j = 0; j < m; ++j) {
+      out[k0 + j].extinction = e[j];
+      out[k0 + j].scattering = albedo * e[j];
+    }
+  }
 }
 
 void FogMedium::apply_volume(const PlacedFogVolume& v, const glm::vec3& rel, FogDensity& dst) const {

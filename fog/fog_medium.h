@@ -41,7 +41,13 @@ class FogMedium {
   const std::vector<PlacedFogVolume>& volumes() const { return placed_; }
   bool has_height_fog() const { return settings_.height_fog; }
 
+  // Height fog: extinction * exp(-(h - base) / H) above the base. Above
+  // base + 2 (max_height - base) the density is below 1e-6 of the base
+  // (H = (max - base) / ln 1000) and is taken as exactly zero, so the passes
+  // skip clear air; what is dropped is < 1e-6 of the layer's optical depth.
   FogDensity height_fog(const glm::vec3& rel) const;
+  // height_fog at dir * t[k] for k < n (one froxel column), same values.
+  void height_fog_column(const glm::vec3& dir, const float* t, int n, FogDensity* out) const;
   // Blends volume v over `dst` at `rel` (no-op outside the box).
   void apply_volume(const PlacedFogVolume& v, const glm::vec3& rel, FogDensity& dst) const;
   // Height fog then every volume in order.
@@ -51,6 +57,7 @@ class FogMedium {
   FogSceneSettings settings_;
   float inv_scale_height_ = 0.0f;
   float base_rel_ = 0.0f;  // base height relative to the camera
+  float cutoff_above_ = 0.0f;  // height above the base where the fog is clear air
   std::vector<PlacedFogVolume> placed_;
 };
 

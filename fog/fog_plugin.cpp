@@ -22,9 +22,9 @@ void FogPlugin::add_passes(FrameGraph& graph, FrameContext& ctx) {
   FrameContext* c = &ctx;
   const FogProfileSettings& p = fog->profile();
   graph.add_pass(
-      "fog.density", [](FrameGraph::Builder& b) { b.write("fog.density"); },
+      "fog.density", [](FrameGraph::Builder& b) { b.read("depth").write("fog.density"); },
       [fog, c] {
-        fog->begin_frame(c->view, c->jobs);
+        fog->begin_frame(c->view, c->jobs, &c->buffers.distance);
         fog->density(c->jobs);
       });
   graph.add_pass(
@@ -64,6 +64,8 @@ void FogPlugin::report_frame(nlohmann::json& frame) {
   frame["fog_range_m"] = {g.near_distance(), g.far_distance()};
   frame["visible_volumes"] = s.voxelize.visible_volumes;
   frame["volume_froxels"] = s.voxelize.volume_froxels;
+  frame["lit_froxels"] = s.lit_froxels;
+  frame["active_froxels"] = s.active_froxels;
   frame["history_used"] = s.history_used;
   frame["history_rejected_froxels"] = s.reproject.rejected;
 }

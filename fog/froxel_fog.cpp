@@ -5,15 +5,20 @@ namespace cr {
 FroxelFog::FroxelFog(const FogProfileSettings& profile, const FogSceneSettings& scene)
     : profile_(resolve_fog_settings(profile, scene)), scene_(scene), medium_(scene) {}
 
-void FroxelFog::begin_frame(const FrameView& view, JobSystem& jobs) {
+void FroxelFog::begin_frame(const FrameView& view, JobSystem& jobs, const std::vector<float>* distance) {
   const FroxelGrid grid(view.width, view.height, profile_.froxel_size_px, profile_.slices, view.camera.znear,
                         profile_.fog_distance, profile_.slice_uniformity);
   view_ = make_froxel_view(grid, view.camera, jobs);
+  if (distance) cull_froxels_by_depth(view_, *distance, jobs);
   medium_.set_camera(view.camera.position);
   frame_ = view.frame;
   use_history_ = profile_.reprojection && have_history_ && view.history_valid;
   stats_ = FroxelFogStats{};
   stats_.history_used = use_history_;
+  for (size_t c = 0; c < grid.columns(); ++c) {
+    stats_.lit_froxels += view_.lit_slices[c];
+    stats_.active_froxels += view_.active_slices[c];
+  }
 }
 
 void FroxelFog::density(JobSystem& jobs) { stats_.voxelize = voxelize_density(view_, medium_, jobs, density_); }
@@ -40,7 +45,7 @@ void FroxelFog::reproject(JobSystem& jobs) {
     stats_.reproject = reproject_history(view_, sun_current_, history_view_, history_[1 - current_],
                                          profile_.history_weight, profile_.history_clamp, jobs, out);
   } else {
-    out = sun_current_;
+    out.swap(sun_current_);  // no history: the blend is the current light (lighting rewrites sun_current_)
   }
   blended_ = current_;
   history_view_ = view_;
@@ -49,7 +54,7 @@ void FroxelFog::reproject(JobSystem& jobs) {
 }
 
 void FroxelFog::filter(JobSystem& jobs) {
-  if (profile_.filter) filter_slices(view_.grid, blended(), jobs, scratch_, filtered_);
+  if (profile_.filter) filter_slices(view_, blended(), jobs, scratch_, filtered_);
 }
 
 void FroxelFog::integrate(const LightEnvironment& light, JobSystem& jobs) {
@@ -66,8 +71,8 @@ void FroxelFog::composite(FrameBuffers& buffers, int x0, int y0, int x1, int y1)
 }
 
 void FroxelFog::render(const FrameView& view, const LightEnvironment& light, const ShadowMap& shadow,
-                       JobSystem& jobs) {
-  begin_frame(view, jobs);
+                       JobSystem& jobs, const std::vector<float>* distance) {
+  begin_frame(view, jobs, distance);
   density(jobs);
   lighting(light, shadow, jobs);
   reproject(jobs);

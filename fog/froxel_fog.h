@@ -18,6 +18,8 @@
 namespace cr {
 
 struct FroxelFogStats {
+  size_t lit_froxels = 0;     // froxels density, lighting and reprojection work on (after depth culling)
+  size_t active_froxels = 0;  // froxels filter and integration produce
   VoxelizeStats voxelize;
   ReprojectStats reproject;
   bool history_used = false;
@@ -27,7 +29,10 @@ class FroxelFog {
  public:
   FroxelFog(const FogProfileSettings& profile, const FogSceneSettings& scene);
 
-  void begin_frame(const FrameView& view, JobSystem& jobs);
+  // distance: the frame's per-pixel distance (FrameBuffers::distance) for
+  // depth-aware culling; null keeps every froxel. The composite must then be
+  // given the same distances.
+  void begin_frame(const FrameView& view, JobSystem& jobs, const std::vector<float>* distance = nullptr);
   void density(JobSystem& jobs);
   void lighting(const LightEnvironment& light, const ShadowMap& shadow, JobSystem& jobs);
   void reproject(JobSystem& jobs);
@@ -35,7 +40,8 @@ class FroxelFog {
   void integrate(const LightEnvironment& light, JobSystem& jobs);
   void composite(FrameBuffers& buffers, int x0, int y0, int x1, int y1) const;
   // All steps but the composite, in order.
-  void render(const FrameView& view, const LightEnvironment& light, const ShadowMap& shadow, JobSystem& jobs);
+  void render(const FrameView& view, const LightEnvironment& light, const ShadowMap& shadow, JobSystem& jobs,
+              const std::vector<float>* distance = nullptr);
 
   // Non-temporal supersampling: average n samples of the jitter sequence per
   // froxel in one frame (the many-sample result reprojection converges to).
@@ -51,6 +57,7 @@ class FroxelFog {
   const std::vector<FogDensity>& density_volume() const { return density_; }
   // The sun term the integration uses (after reprojection and filter).
   const std::vector<glm::vec3>& sun_light() const { return profile_.filter ? filtered_ : blended(); }
+  // Valid in each column's active slices (view().active_slices).
   const std::vector<IntegratedFroxel>& volume() const { return volume_; }
   const FroxelFogStats& stats() const { return stats_; }
 

@@ -24,6 +24,17 @@ FroxelGrid::FroxelGrid(int width, int height, int froxel_size_px, int slices, fl
   boundaries_.front() = near_;
   boundaries_.back() = far_;
   for (int k = 0; k < nz_; ++k) centers_[size_t(k)] = decode((float(k) + 0.5f) / float(nz_));
+  // 16 cells per slice on average; one slice lower than the cell start's, so
+  // float rounding of the cell index can never put the start above a distance.
+  const size_t cells = size_t(nz_) * 16;
+  slice_table_.resize(cells);
+  table_scale_ = float(double(cells) / double(far_ - near_));
+  int k = 0;
+  for (size_t i = 0; i < cells; ++i) {
+    const float start = float(double(near_) + double(i) * double(far_ - near_) / double(cells));
+    while (k + 1 < nz_ && start >= boundaries_[size_t(k) + 1]) ++k;
+    slice_table_[i] = uint16_t(std::max(k - 1, 0));
+  }
 }
 
 float FroxelGrid::encode(float distance) const {

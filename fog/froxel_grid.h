@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -52,6 +53,17 @@ class FroxelGrid {
     return std::log(1.0f + cf_ * (d - near_)) * slice_scale_;
   }
 
+  // Slice containing a distance (clamped to [near, far]; far is in the last
+  // slice), exact against boundary(): a table over distance gives a slice at
+  // or below the answer and a few boundary compares finish it, no log.
+  int slice_of(float distance) const {
+    const float d = std::min(std::max(distance, near_), far_);
+    const size_t cell = std::min(size_t((d - near_) * table_scale_), slice_table_.size() - 1);
+    int k = slice_table_[cell];
+    while (k + 1 < nz_ && d >= boundaries_[size_t(k) + 1]) ++k;
+    return k;
+  }
+
   // Screen pixel coordinate (continuous, pixel centres at +0.5) of a froxel column centre.
   glm::vec2 column_center_px(int x, int y) const;
   // Unit world direction of a column's centre ray for a camera.
@@ -66,6 +78,8 @@ class FroxelGrid {
   float cf_ = 1.0f, slice_scale_ = 1.0f;  // c and nz / log_range for slice_coord
   std::vector<float> boundaries_;
   std::vector<float> centers_;
+  std::vector<uint16_t> slice_table_;  // per distance cell: a slice at or below the cell's first slice
+  float table_scale_ = 1.0f;           // cells per metre
 };
 
 }  // namespace cr

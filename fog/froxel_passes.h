@@ -11,6 +11,7 @@
 //   volume     IntegratedFroxel: in-scattered radiance and transmittance from
 //              the near plane to the froxel's far boundary, and its extinction
 #include <array>
+#include <cstdint>
 #include <functional>
 #include <vector>
 
@@ -25,13 +26,28 @@
 
 namespace cr {
 
-// The grid placed in one frame's view: column centre directions.
+// The grid placed in one frame's view: column centre directions and how many
+// slices of each column are worked on (all of them unless depth-culled).
+//   active_slices  slices filter and integration produce: the composite reads
+//                  nothing beyond them
+//   lit_slices     slices density, lighting and reprojection produce: active
+//                  dilated by one column, so the 3x3 filter of an active
+//                  froxel reads only lit neighbours
 struct FroxelView {
   FroxelGrid grid;
   Camera camera;
   std::vector<glm::vec3> directions;  // per column, unit, world space
+  std::vector<uint16_t> active_slices, lit_slices;  // per column
 };
 FroxelView make_froxel_view(const FroxelGrid& grid, const Camera& camera, JobSystem& jobs);
+
+// Depth-aware culling (UE/HDRP keep a max depth per tile): a froxel behind the
+// farthest opaque surface of the pixels that can read it is invisible. A pixel
+// reads the slices up to its distance in the 2x2 columns around it, all within
+// the 3x3 columns around its own tile, so a column's active slices are those
+// up to the farthest pixel (sky: the last slice) of the 3x3 tiles around it.
+// `distance` is the frame's per-pixel distance (metres, +inf for sky).
+void cull_froxels_by_depth(FroxelView& view, const std::vector<float>& distance, JobSystem& jobs);
 
 // Screen rectangle (columns) and slice range a volume may overlap; volumes
 // outside the view or the fog range get none and cost nothing.
@@ -46,7 +62,8 @@ struct VoxelizeStats {
   int visible_volumes = 0;
   size_t volume_froxels = 0;  // froxels whose footprint a volume covers
 };
-// fog.density: height fog in every froxel, then each visible volume in its footprint.
+// fog.density: height fog in every lit froxel, then each visible volume in its
+// footprint (lit froxels only).
 VoxelizeStats voxelize_density(const FroxelView& view, const FogMedium& medium, JobSystem& jobs,
                                std::vector<FogDensity>& density);
 
@@ -61,14 +78,17 @@ struct JitterInputs {
   int frame = 0;    // index into the 7-frame sequence
   int samples = 1;  // > 1: average this many consecutive sequence samples (non-temporal reference)
 };
-// fog.lighting: phase-free sun light at the importance-sampled jittered point.
+// fog.lighting: phase-free sun light at the importance-sampled jittered point,
+// for lit froxels with scattering (clear air gets 0: nothing multiplies it).
 void light_froxels(const FroxelView& view, const std::vector<FogDensity>& density, const SunLightingInputs& sun,
                    const VolumeShadow& shadow, const JitterInputs& jitter, JobSystem& jobs,
                    std::vector<glm::vec3>& sun_light);
 
 // fog.reproject: out = lerp(current, history(reprojected centre), weight);
-// history is rejected outside the previous grid (frustum and depth range) and,
-// with clamp, limited to the current 3x3 neighbourhood's range in the slice.
+// history is rejected outside the previous grid (frustum and depth range) or
+// where it reads a froxel the previous frame culled, and, with clamp, limited
+// to the current 3x3 neighbourhood's range in the slice (lit neighbours only).
+// Produces the lit slices of each column.
 struct ReprojectStats {
   bool identity = false;       // same camera: history read in place
   size_t rejected = 0;         // froxels without history
@@ -77,8 +97,9 @@ ReprojectStats reproject_history(const FroxelView& view, const std::vector<glm::
                                  const FroxelView& history_view, const std::vector<glm::vec3>& history,
                                  float history_weight, bool clamp, JobSystem& jobs, std::vector<glm::vec3>& out);
 
-// fog.filter: 3x3 Gaussian (sigma 1 froxel) in each slice, separable, clamped at the edges.
-void filter_slices(const FroxelGrid& grid, const std::vector<glm::vec3>& in, JobSystem& jobs,
+// fog.filter: 3x3 Gaussian (sigma 1 froxel) in each slice, separable, clamped
+// at the edges; produces the active slices of each column.
+void filter_slices(const FroxelView& view, const std::vector<glm::vec3>& in, JobSystem& jobs,
                    std::vector<glm::vec3>& scratch, std::vector<glm::vec3>& out);
 
 struct IntegratedFroxel {
@@ -92,8 +113,9 @@ struct MediumLighting {
   glm::vec3 sun_direction{0.0f, 1.0f, 0.0f};
   std::array<glm::vec3, 9> ambient_sh{};
 };
-// fog.integrate: front-to-back per column. The phase function is applied here
-// at the column's centre direction (never jittered, never reprojected).
+// fog.integrate: front-to-back per column over its active slices. The phase
+// function is applied here at the column's centre direction (never jittered,
+// never reprojected).
 void integrate_columns(const FroxelView& view, const std::vector<FogDensity>& density,
                        const std::vector<glm::vec3>& sun_light, const MediumLighting& lighting, JobSystem& jobs,
                        std::vector<IntegratedFroxel>& volume);

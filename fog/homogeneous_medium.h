@@ -5,12 +5,14 @@
 #include <algorithm>
 #include <cmath>
 
+#include "fog/fast_exp.h"
+
 namespace cr {
 
 // 1 - exp(-x) for optical depth x >= 0 (relative error < 1e-6).
 inline float opacity_of(float x) {
-  if (x < 1e-3f) return x * (1.0f - x * (0.5f - x * (1.0f / 6.0f)));
-  return 1.0f - std::exp(-x);
+  const float series = x * (1.0f - x * (0.5f - x * (1.0f / 6.0f)));
+  return x < 1e-3f ? series : 1.0f - fast_exp(-x);
 }
 
 // Transmittance-proportional sample in [0, dt] of a slice with extinction

@@ -15,7 +15,6 @@
 
 namespace cr {
 
-
 void light_froxels(const FroxelView& view, const std::vector<FogDensity>& density, const SunLightingInputs& sun,
                    const VolumeShadow& shadow, const JitterInputs& jitter, JobSystem& jobs,
                    std::vector<glm::vec3>& sun_light) {
@@ -36,7 +35,9 @@ void light_froxels(const FroxelView& view, const std::vector<FogDensity>& densit
       for (int x = 0; x < nx; ++x) {
         glm::vec3* out = sun_light.data() + g.index(x, y, 0);
         const FogDensity* column = density.data() + g.index(x, y, 0);
-        for (int k = 0; k < nz; ++k) out[k] = glm::vec3(0.0f);
+        const int n = view.lit_slices[size_t(y) * nx + x];
+        for (int k = 0; k < n; ++k) out[k] = glm::vec3(0.0f);
+        if (n == 0) continue;
         const glm::vec2 center_px = g.column_center_px(x, y);
         const float hash = column_hash(x, y);
         for (int i = 0; i < samples; ++i) {
@@ -55,7 +56,8 @@ void light_froxels(const FroxelView& view, const std::vector<FogDensity>& densit
             e1 = (*sun.illuminance_at)(glm::vec3(sun.camera_position + glm::dvec3(dir * t_last)));
           }
           const glm::vec3 de = nz > 1 ? (e1 - e0) / (t_last - t_first) : glm::vec3(0.0f);
-          for (int k = 0; k < nz; ++k) {
+          for (int k = 0; k < n; ++k) {
+            if (column[k].scattering == glm::vec3(0.0f)) continue;  // clear air: the light is never used
             const float sigma = std::max(column[k].extinction, 1e-12f);
             const float t = t0[size_t(k)] + importance_sample_offset(u, sigma, dt[size_t(k)]);
             const glm::vec3 e = e0 + de * (t - t_first);
@@ -63,7 +65,7 @@ void light_froxels(const FroxelView& view, const std::vector<FogDensity>& densit
           }
         }
         if (samples > 1)
-          for (int k = 0; k < nz; ++k) out[k] /= float(samples);
+          for (int k = 0; k < n; ++k) out[k] /= float(samples);
       }
   });
 }

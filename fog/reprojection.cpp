@@ -29,6 +29,7 @@ bool same_camera(const Camera& a, const Camera& b) {
 struct HistoryProjection {
   const FroxelGrid* grid;
   const std::vector<glm::vec3>* values;
+  const uint16_t* lit;  // per history column: slices it holds
   float scale_x, scale_y;  // pixels per unit of x/z and y/z
   float max_px, max_py;    // grid extent in pixels
   float inv_size;          // 1 / froxel size
@@ -36,6 +37,7 @@ struct HistoryProjection {
   HistoryProjection(const FroxelView& hv, const std::vector<glm::vec3>& history) {
     grid = &hv.grid;
     values = &history;
+    lit = hv.lit_slices.data();
     const float tan_y = std::tan(0.5f * hv.camera.vfov_rad);
     scale_x = 0.5f * float(grid->width()) / (tan_y * hv.camera.aspect);
     scale_y = 0.5f * float(grid->height()) / tan_y;
@@ -64,6 +66,11 @@ struct HistoryProjection {
     const int x0 = int(fx), y0 = int(fy), z0 = int(fz);
     const int x1 = std::min(x0 + 1, nx - 1), y1 = std::min(y0 + 1, ny - 1);
     const int dz = z0 + 1 < nz ? 1 : 0;
+    // A corner the history culled holds nothing of this point: no history.
+    const int need = z0 + dz + 1;
+    if (lit[size_t(y0) * nx + x0] < need || lit[size_t(y0) * nx + x1] < need || lit[size_t(y1) * nx + x0] < need ||
+        lit[size_t(y1) * nx + x1] < need)
+      return false;
     const float ax = fx - float(x0), ay = fy - float(y0), az = fz - float(z0);
     const glm::vec3* h = values->data();
     auto lerp_z = [&](int xi, int yi) {
@@ -94,46 +101,71 @@ ReprojectStats reproject_history(const FroxelView& view, const std::vector<glm::
   const glm::vec3 offset(glm::dot(offset_world, hc.right), glm::dot(offset_world, hc.up),
                          glm::dot(offset_world, hc.forward));
   const HistoryProjection projection(history_view, history);
-  const int nx = g.nx(), nz = g.nz();
+  const int nx = g.nx(), ny = g.ny(), nz = g.nz();
   std::vector<float> centers(static_cast<size_t>(nz));
   for (int k = 0; k < nz; ++k) centers[size_t(k)] = g.center(k);
-  std::vector<size_t> rejected_per_row(size_t(g.ny()), 0);
-  jobs.parallel_for("fog.reproject", size_t(g.ny()), 1, [&](size_t begin, size_t end) {
+  std::vector<size_t> rejected_per_row(size_t(ny), 0);
+  // Per column the slices are contiguous RGB floats, so the clamp and blend
+  // run as flat float loops the compiler vectorises.
+  const float* cur_all = reinterpret_cast<const float*>(current.data());
+  const float* hist_all = reinterpret_cast<const float*>(history.data());
+  float* out_all = reinterpret_cast<float*>(out.data());
+  jobs.parallel_for("fog.reproject", size_t(ny), 1, [&](size_t begin, size_t end) {
+    std::vector<float> h(size_t(nz) * 3), lo(size_t(nz) * 3), hi(size_t(nz) * 3);
     for (int y = int(begin); y < int(end); ++y)
       for (int x = 0; x < nx; ++x) {
-        const glm::vec3 d = view.directions[size_t(y) * nx + x];
-        const glm::vec3 dv(glm::dot(d, hc.right), glm::dot(d, hc.up), glm::dot(d, hc.forward));
+        const size_t c = size_t(y) * nx + x;
+        const int n = view.lit_slices[c];
         const size_t base = g.index(x, y, 0);
-        const glm::vec3* neighbours[9];
-        for (int i = 0; i < 9; ++i)
-          neighbours[i] = current.data() + g.index(std::clamp(x + i % 3 - 1, 0, nx - 1),
-                                                   std::clamp(y + i / 3 - 1, 0, g.ny() - 1), 0);
-        for (int k = 0; k < nz; ++k) {
-          const glm::vec3& cur = current[base + k];
-          glm::vec3& dst = out[base + k];
-          glm::vec3 h;
-          if (stats.identity) {
-            h = history[base + k];
-          } else if (!projection.sample(offset + dv * centers[size_t(k)], h)) {
-            dst = cur;
-            ++rejected_per_row[size_t(y)];
-            continue;
-          }
-          if (clamp) {
-            // Clamp the history to the range of the current frame's 3x3
-            // neighbourhood in this slice (TAA-style): neighbours sample other
-            // depth strata (column hash), so their range brackets the
-            // converged value; history outside it is a ghost (moved shaft,
-            // disocclusion) and is cut. HDRP does not clamp.
-            glm::vec3 lo = cur, hi = cur;
-            for (const glm::vec3* n : neighbours) {
-              lo = glm::min(lo, n[k]);
-              hi = glm::max(hi, n[k]);
+        const float* cur = cur_all + base * 3;
+        float* dst = out_all + base * 3;
+        // History per slice; where there is none it takes the current value,
+        // which the clamp keeps and the blend returns unchanged.
+        size_t rejected = 0;
+        if (stats.identity) {
+          const int m = std::min(n, int(history_view.lit_slices[c]));
+          std::copy(hist_all + base * 3, hist_all + (base + size_t(m)) * 3, h.data());
+          std::copy(cur + size_t(m) * 3, cur + size_t(n) * 3, h.data() + size_t(m) * 3);
+          rejected = size_t(n - m);
+        } else {
+          const glm::vec3 d = view.directions[c];
+          const glm::vec3 dv(glm::dot(d, hc.right), glm::dot(d, hc.up), glm::dot(d, hc.forward));
+          for (int k = 0; k < n; ++k) {
+            glm::vec3 v;
+            if (!projection.sample(offset + dv * centers[size_t(k)], v)) {
+              v = glm::vec3(cur[k * 3], cur[k * 3 + 1], cur[k * 3 + 2]);
+              ++rejected;
             }
-            h = glm::clamp(h, lo, hi);
+            h[size_t(k) * 3] = v.x;
+            h[size_t(k) * 3 + 1] = v.y;
+            h[size_t(k) * 3 + 2] = v.z;
           }
-          dst = cur + (h - cur) * w;
         }
+        rejected_per_row[size_t(y)] += rejected;
+        const size_t len = size_t(n) * 3;
+        if (clamp) {
+          // Clamp the history to the range of the current frame's 3x3
+          // neighbourhood in this slice (TAA-style): neighbours sample other
+          // depth strata (column hash), so their range brackets the
+          // converged value; history outside it is a ghost (moved shaft,
+          // disocclusion) and is cut. HDRP does not clamp. Neighbours count
+          // only where they are lit.
+          std::copy(cur, cur + len, lo.data());
+          std::copy(cur, cur + len, hi.data());
+          for (int i = 0; i < 9; ++i) {
+            const int xn = std::clamp(x + i % 3 - 1, 0, nx - 1), yn = std::clamp(y + i / 3 - 1, 0, ny - 1);
+            const size_t cn = size_t(yn) * nx + xn;
+            if (cn == c) continue;
+            const float* nb = cur_all + g.index(xn, yn, 0) * 3;
+            const size_t m = size_t(std::min(n, int(view.lit_slices[cn]))) * 3;
+            for (size_t j = 0; j < m; ++j) {
+              lo[j] = std::min(lo[j], nb[j]);
+              hi[j] = std::max(hi[j], nb[j]);
+            }
+          }
+          for (size_t j = 0; j < len; ++j) h[j] = std::min(std::max(h[j], lo[j]), hi[j]);
+        }
+        for (size_t j = 0; j < len; ++j) dst[j] = cur[j] + (h[j] - cur[j]) * w;
       }
   });
   for (size_t r : rejected_per_row) stats.rejected += r;

@@ -33,25 +33,4 @@ VolumeShadow::Ray VolumeShadow::ray(const glm::vec3& origin_rel, const glm::vec3
   return r;
 }
 
-float VolumeShadow::visibility(const Ray& r, float t) const {
-  if (size_ <= 0) return 1.0f;
-  const float tx = r.origin.x + t * r.step.x;
-  const float ty = r.origin.y + t * r.step.y;
-  const float receiver = r.origin.z + t * r.step.z;
-  const float s = float(size_);
-  // Outside the map's volume nothing was recorded: lit.
-  if (!(tx >= -1.0f && ty >= -1.0f && tx <= s && ty <= s && receiver >= bias_ && receiver <= 1.0f + bias_))
-    return 1.0f;
-  const float fx = std::floor(tx), fy = std::floor(ty);
-  const float ax = tx - fx, ay = ty - fy;
-  const int x0 = int(fx), y0 = int(fy);
-  auto lit = [&](int x, int y) -> float {
-    if (x < 0 || y < 0 || x >= size_ || y >= size_) return 1.0f;
-    return depth_[size_t(y) * size_t(size_) + size_t(x)] <= receiver ? 1.0f : 0.0f;
-  };
-  const float top = lit(x0, y0) + (lit(x0 + 1, y0) - lit(x0, y0)) * ax;
-  const float bottom = lit(x0, y0 + 1) + (lit(x0 + 1, y0 + 1) - lit(x0, y0 + 1)) * ax;
-  return top + (bottom - top) * ay;
-}
-
 }  // namespace cr

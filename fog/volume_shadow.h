@@ -6,6 +6,8 @@
 // and 3x3 filter already average many positions, and the lookup runs once per
 // froxel. Positions along one ray are linear in t in shadow space, so a ray
 // is set up once and each lookup is a few multiply-adds.
+#include <cmath>
+
 #include <glm/glm.hpp>
 
 #include "engine/shading/shadow_map.h"
@@ -22,7 +24,8 @@ class VolumeShadow {
     glm::vec3 step;    // per metre along the ray
   };
   Ray ray(const glm::vec3& origin_rel, const glm::vec3& direction) const;
-  // Fraction of the sun visible at origin + t * direction (1 = lit).
+  // Fraction of the sun visible at origin + t * direction (1 = lit). Inline:
+  // it runs once per lit froxel.
   float visibility(const Ray& r, float t) const;
   bool empty() const { return size_ <= 0; }
 
@@ -32,5 +35,26 @@ class VolumeShadow {
   float bias_ = 0.0f;
   glm::mat4 to_texel_{1.0f};  // camera-relative position -> (texel x, texel y, biased depth)
 };
+
+inline float VolumeShadow::visibility(const Ray& r, float t) const {
+  if (size_ <= 0) return 1.0f;
+  const float tx = r.origin.x + t * r.step.x;
+  const float ty = r.origin.y + t * r.step.y;
+  const float receiver = r.origin.z + t * r.step.z;
+  const float s = float(size_);
+  // Outside the map's volume nothing was recorded: lit.
+  if (!(tx >= -1.0f && ty >= -1.0f && tx <= s && ty <= s && receiver >= bias_ && receiver <= 1.0f + bias_))
+    return 1.0f;
+  const float fx = std::floor(tx), fy = std::floor(ty);
+  const float ax = tx - fx, ay = ty - fy;
+  const int x0 = int(fx), y0 = int(fy);
+  auto lit = [&](int x, int y) -> float {
+    if (x < 0 || y < 0 || x >= size_ || y >= size_) return 1.0f;
+    return depth_[size_t(y) * size_t(size_) + size_t(x)] <= receiver ? 1.0f : 0.0f;
+  };
+  const float top = lit(x0, y0) + (lit(x0 + 1, y0) - lit(x0, y0)) * ax;
+  const float bottom = lit(x0, y0 + 1) + (lit(x0 + 1, y0 + 1) - lit(x0, y0 + 1)) * ax;
+  return top + (bottom - top) * ay;
+}
 
 }  // namespace cr

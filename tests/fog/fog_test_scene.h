@@ -81,12 +81,14 @@ inline FogSceneSettings uniform_fog(float extinction, const glm::vec3& albedo, f
   return s;
 }
 
-// Renders the froxel volume for one frame and composites it over `base`
-// colour with the given per-pixel distances.
+// Renders the froxel volume for one frame (depth-culled by the same per-pixel
+// distances, as the plugin does, unless `cull` is false) and composites it
+// over `base` colour.
 inline std::vector<glm::vec3> composite(FroxelFog& fog, const FrameView& view, const LightEnvironment& light,
                                         const ShadowMap& shadow, JobSystem& jobs,
-                                        const std::vector<float>& distance, const glm::vec3& base) {
-  fog.render(view, light, shadow, jobs);
+                                        const std::vector<float>& distance, const glm::vec3& base,
+                                        bool cull = true) {
+  fog.render(view, light, shadow, jobs, cull ? &distance : nullptr);
   FrameBuffers b;
   b.resize(view.width, view.height);
   b.distance = distance;

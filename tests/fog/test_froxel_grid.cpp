@@ -71,3 +71,20 @@ TEST_CASE("the 7-frame jitter sequence: HDRP depth offsets and a hexagon inside 
     CHECK(h < 1.0f);
   }
 }
+
+TEST_CASE("slice_of finds the slice whose boundaries bracket a distance") {
+  for (float u : {0.0f, 0.75f, 1.0f}) {
+    const FroxelGrid g(1280, 720, 8, 64, 0.1f, 128.0f, u);
+    for (int k = 0; k < 64; ++k) {
+      CHECK(g.slice_of(g.boundary(k)) == k);
+      CHECK(g.slice_of(std::nextafter(g.boundary(k + 1), 0.0f)) == k);
+    }
+    for (float d = 0.1f; d < 128.1f; d = d * 1.013f + 1e-3f) {
+      const int k = g.slice_of(d);
+      CHECK(g.boundary(k) <= d);
+      if (k < 63) CHECK(d < g.boundary(k + 1));
+    }
+    CHECK(g.slice_of(0.0f) == 0);
+    CHECK(g.slice_of(INFINITY) == 63);
+  }
+}
