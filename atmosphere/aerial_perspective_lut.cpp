@@ -17,7 +17,8 @@ AerialPerspectiveLut::AerialPerspectiveLut(int width, int height, int depth, flo
       steps_per_slice_(steps_per_slice),
       camera_(camera),
       luminance_(width, height, depth),
-      transmittance_(width, height, depth) {}
+      transmittance_(width, height, depth),
+      packed_(size_t(width) * height * depth, FroxelTexel{}) {}
 
 float AerialPerspectiveLut::slice_distance(int slice) const {
   const float depth = float(luminance_.depth);
@@ -55,6 +56,7 @@ void AerialPerspectiveLut::bake(size_t begin, size_t end, const AtmosphereLuts& 
       t *= ray.transmittance;
       luminance_.at(x, y, s) = l;
       transmittance_.at(x, y, s) = t;
+      packed_[luminance_.index(x, y, s)] = {{l.x, l.y, l.z, 0.0f}, {t.x, t.y, t.z, 0.0f}};
       t_begin = t_end;
     }
   }

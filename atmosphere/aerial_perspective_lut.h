@@ -6,6 +6,7 @@
 // camera to its slice. A column is marched once, front to back, accumulating
 // slice by slice; samples under the ground are pushed 10 m above it.
 #include <cstddef>
+#include <vector>
 
 #include <glm/glm.hpp>
 
@@ -27,6 +28,12 @@ struct FroxelCamera {
   glm::vec3 column_direction(float px, float py, int w, int h) const;
 };
 
+// A froxel laid out for the composite: luminance and transmittance in one 32-byte block.
+struct FroxelTexel {
+  float luminance[4];      // rgb, pad
+  float transmittance[4];  // rgb, pad
+};
+
 class AerialPerspectiveLut {
  public:
   AerialPerspectiveLut() = default;
@@ -43,6 +50,7 @@ class AerialPerspectiveLut {
 
   const LutImage& luminance() const { return luminance_; }
   const LutImage& transmittance() const { return transmittance_; }
+  const std::vector<FroxelTexel>& packed() const { return packed_; }  // both images interleaved
   const FroxelCamera& camera() const { return camera_; }
 
  private:
@@ -51,6 +59,7 @@ class AerialPerspectiveLut {
   FroxelCamera camera_;
   LutImage luminance_;
   LutImage transmittance_;
+  std::vector<FroxelTexel> packed_;
 };
 
 }  // namespace cr

@@ -19,6 +19,13 @@ double sun_zenith_deg(const FroxelCamera& c) {
   return std::acos(mu) * 180.0 / M_PI;
 }
 
+// The altitude a sky-view LUT is built for: the ground below it, and inside
+// the atmosphere its top above it (the sky is the same from anywhere higher
+// up to the space fallback, which builds it for the true altitude).
+double skyview_altitude(double altitude, double top, double space_altitude) {
+  return altitude > space_altitude ? altitude : std::clamp(altitude, 0.0, top);
+}
+
 }  // namespace
 
 double AtmosphereFrameInputs::radius() const { return glm::length(camera.position); }
@@ -58,8 +65,8 @@ std::string LutScheduler::invalidation(LutKind kind, const AtmosphereFrameInputs
     case LutKind::SkyView: {
       if ((against_back ? sv_.b_upstream : sv_.f_upstream) != upstream_now) return "upstream";
       const FroxelCamera& c = against_back ? sv_.b_camera : sv_.f_camera;
-      const double alt_then = std::clamp(glm::length(c.position) - model_.bottom_radius, 0.0, top);
-      const double alt_now = std::clamp(in.altitude(), 0.0, top);
+      const double alt_then = skyview_altitude(glm::length(c.position) - model_.bottom_radius, top, settings_.space_altitude);
+      const double alt_now = skyview_altitude(in.altitude(), top, settings_.space_altitude);
       if (std::abs(alt_now - alt_then) > settings_.invalidate_camera_m) return "camera";
       if (std::abs(sun_zenith_deg(c) - sun_zenith_deg(in.camera)) > settings_.invalidate_sun_deg) return "sun";
       return "";
@@ -88,8 +95,8 @@ bool LutScheduler::drifted(LutKind kind, const AtmosphereFrameInputs& in) const 
     case LutKind::SkyView: {
       const FroxelCamera& c = sv_.f_camera;
       const double top = model_.atmosphere_height();
-      return std::clamp(glm::length(c.position) - model_.bottom_radius, 0.0, top) !=
-                 std::clamp(in.altitude(), 0.0, top) ||
+      return skyview_altitude(glm::length(c.position) - model_.bottom_radius, top, settings_.space_altitude) !=
+                 skyview_altitude(in.altitude(), top, settings_.space_altitude) ||
              sun_zenith_deg(c) != sun_zenith_deg(now);
     }
     case LutKind::AerialPerspective: {
@@ -106,7 +113,7 @@ LutWork LutScheduler::decide(LutKind kind, const AtmosphereFrameInputs& in, bool
   LutWork w;
   const size_t k = size_t(kind);
   const LutSchedule& sched = settings_.schedule[k];
-  if (space && (kind == LutKind::SkyView || kind == LutKind::AerialPerspective)) return w;
+  if (space && kind == LutKind::AerialPerspective) return w;
 
   bool has_front = false, in_progress = false;
   int next_slice = 0, slices = 1, last_start = 0;
@@ -252,10 +259,12 @@ void LutScheduler::run(LutKind kind, const AtmospherePlan& plan, JobSystem& jobs
         sv_.b_upstream = ms_.version;
         const glm::dvec3 up = plan.inputs.camera.position / plan.inputs.radius();
         const float mu_s = float(std::clamp(glm::dot(glm::dvec3(plan.inputs.camera.sun_direction), up), -1.0, 1.0));
-        const double top = sv_.b_t->model().atmosphere_height();
-        const float altitude = float(std::clamp(plan.inputs.altitude(), 0.0, top));
-        sv_.back = std::make_shared<SkyViewLut>(s.skyview_width, s.skyview_height, s.skyview_min_steps,
-                                                s.skyview_max_steps, altitude, mu_s, sv_.b_t->model().bottom_radius);
+        const AtmosphereModel& m = sv_.b_t->model();
+        const float altitude = float(skyview_altitude(plan.inputs.altitude(), m.atmosphere_height(), s.space_altitude));
+        // Limb rays seen from space cross the whole shell: they get the space march's step count.
+        const int max_steps = plan.space ? std::max(s.skyview_max_steps, s.space_steps) : s.skyview_max_steps;
+        sv_.back = std::make_shared<SkyViewLut>(s.skyview_width, s.skyview_height, s.skyview_min_steps, max_steps,
+                                                altitude, mu_s, m.bottom_radius, m.top_radius);
       }
       SkyViewLut& lut = *sv_.back;
       const AtmosphereLuts luts{sv_.b_t->model(), *sv_.b_t, *sv_.b_ms};

@@ -19,7 +19,8 @@
 //   full      - the "full" schedule rebuilds all four every frame
 // Invalidation while a rebuild is in progress restarts it with the new inputs.
 // Unchanged inputs never trigger work. In the space fallback (camera above
-// space_altitude) the sky-view and AP LUTs are not needed and not built.
+// space_altitude) the AP LUT is not built (geometry is ray marched per pixel)
+// and the sky-view LUT is built for the camera's true altitude (seen from space).
 // Each rebuild snapshots its inputs and upstream LUTs when it starts, so all of
 // its slices see the same inputs and its result is bit-identical to a one-shot build.
 #include <array>

@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <vector>
 
 #include "atmosphere/fast_math.h"
 #include "atmosphere/phase_functions.h"
@@ -11,7 +14,18 @@ namespace cr {
 
 namespace {
 
-// Per-pixel ray march (space fallback, and geometry beyond the AP range).
+// Four floats in one SSE register (GCC/Clang vector extension): a packed texel
+// is two of them, so each bilinear/trilinear lerp is two vector operations.
+// Lane-wise IEEE arithmetic, exactly as rounded as the scalar code.
+using Float4 = float __attribute__((vector_size(16)));
+
+inline Float4 load4(const float* p) {
+  Float4 v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+
+// Per-pixel ray march (space fallback for geometry, and geometry beyond the AP range).
 RayScattering march_pixel(const SkyFrame& f, const glm::vec3& dir, double max_distance) {
   thread_local MarchedRay scratch;
   const AtmosphereLuts luts{f.model, *f.ms_transmittance, *f.multiscattering};
@@ -49,11 +63,6 @@ FroxelSample sample_froxels(const AerialPerspectiveLut& ap, const LutCoord& cx, 
   return {l, t};
 }
 
-bool same_camera(const FroxelCamera& a, const Camera& c, const glm::dvec3& planet_position) {
-  return a.position == planet_position && a.forward == c.forward && a.up == c.up && a.right == c.right &&
-         a.tan_half_fov == std::tan(0.5f * c.vfov_rad) && a.aspect == c.aspect;
-}
-
 // Froxel texel coordinates of a world point given relative to the froxel camera.
 void project_to_froxels(const AerialPerspectiveLut& ap, const glm::vec3& rel, float& fx, float& fy) {
   const FroxelCamera& c = ap.camera();
@@ -64,48 +73,108 @@ void project_to_froxels(const AerialPerspectiveLut& ap, const glm::vec3& rel, fl
   fy = (1.0f - sy) * 0.5f * float(ap.luminance().height) - 0.5f;
 }
 
-// Constants of one row of the composite's coordinate loop.
-struct RowConstants {
-  glm::vec3 base, right, up, sun_horizontal, sun;
-  float zha, inv_zha, inv_beta, u_scale, v_scale;
+// A vector's dot product with a pixel's unnormalised view direction
+// base + sx * right is linear in sx: a0 + sx * a1, constant over a row.
+struct RowDot {
+  float a0 = 0.0f, a1 = 0.0f;
+  RowDot() = default;
+  RowDot(const glm::vec3& a, const glm::vec3& base, const glm::vec3& right)
+      : a0(glm::dot(a, base)), a1(glm::dot(a, right)) {}
 };
 
-// Directions and sky-view texel coordinates of a row of pixels: branch-free,
-// restrict pointers and locals only, so it vectorizes (SkyViewMapping::to_unit inlined).
-void row_coordinates(const RowConstants c, size_t n, const float* __restrict sx, float* __restrict dx,
-                     float* __restrict dy, float* __restrict dz, float* __restrict sun_cos, float* __restrict fu,
-                     float* __restrict fv) {
-  for (size_t k = 0; k < n; ++k) {
-    const float ux = c.base.x + sx[k] * c.right.x;
-    const float uy = c.base.y + sx[k] * c.right.y;
-    const float uz = c.base.z + sx[k] * c.right.z;
-    const float inv_len = 1.0f / std::sqrt(ux * ux + uy * uy + uz * uz);
-    const float ex = ux * inv_len, ey = uy * inv_len, ez = uz * inv_len;
-    dx[k] = ex;
-    dy[k] = ey;
-    dz[k] = ez;
-    sun_cos[k] = ex * c.sun.x + ey * c.sun.y + ez * c.sun.z;
-    float cos_vz = ex * c.up.x + ey * c.up.y + ez * c.up.z;
+inline float clamp_texel(float x, float hi) { return x > 0.0f ? (x < hi ? x : hi) : 0.0f; }  // NaN -> 0
+
+// Sky-view texel coordinates, Mie phase and sun cosine of `n` sky pixels.
+// Branch-free, restrict pointers: it vectorizes.
+struct SkyRow {
+  RowDot up, sun, sun_h;
+  float len0, len1, len2;  // |base + sx right|^2 = len0 + sx (len1 + sx len2)
+  float first_angle, inv_above, zha, inv_beta, u_scale, v_scale;
+};
+
+template <class Phase>
+void sky_coordinates(const SkyRow& c, const Phase& phase, size_t n, const float* __restrict sx,
+                     float* __restrict fu, float* __restrict fv, float* __restrict ph, float* __restrict nu_out) {
+  for (size_t j = 0; j < n; ++j) {
+    const float s = sx[j];
+    const float inv_len = 1.0f / std::sqrt(c.len0 + s * (c.len1 + s * c.len2));
+    float cos_vz = (c.up.a0 + s * c.up.a1) * inv_len;
     cos_vz = cos_vz < -1.0f ? -1.0f : (cos_vz > 1.0f ? 1.0f : cos_vz);
+    float nu = (c.sun.a0 + s * c.sun.a1) * inv_len;
+    nu = nu < -1.0f ? -1.0f : (nu > 1.0f ? 1.0f : nu);
+    const float along = (c.sun_h.a0 + s * c.sun_h.a1) * inv_len;
     const float sin_vz = std::sqrt(1.0f - cos_vz * cos_vz);
-    const float along = ex * c.sun_horizontal.x + ey * c.sun_horizontal.y + ez * c.sun_horizontal.z;
     const float cos_lon = sin_vz > 1e-6f ? along / (sin_vz > 1e-6f ? sin_vz : 1.0f) : 1.0f;
     const float angle = fast_acos(cos_vz);
-    const float above = 1.0f - angle * c.inv_zha;
+    const float above = 1.0f - (angle - c.first_angle) * c.inv_above;
     const float below = (angle - c.zha) * c.inv_beta;
-    const float v = angle < c.zha ? 0.5f - 0.5f * std::sqrt(above > 0.0f ? above : 0.0f)
+    const float v = angle < c.zha ? 0.5f - 0.5f * std::sqrt(above > 0.0f ? (above < 1.0f ? above : 1.0f) : 0.0f)
                                   : 0.5f + 0.5f * std::sqrt(below < 1.0f ? below : 1.0f);
     float uu = 0.5f - 0.5f * cos_lon;
     uu = uu < 0.0f ? 0.0f : (uu > 1.0f ? 1.0f : uu);
-    fu[k] = std::sqrt(uu) * c.u_scale;
-    fv[k] = v * c.v_scale;
+    fu[j] = std::sqrt(uu) * c.u_scale;
+    fv[j] = v * c.v_scale;
+    ph[j] = phase(nu);
+    nu_out[j] = nu;
   }
 }
 
-// The Mie phase of a row of view/sun cosines (a loop that vectorizes).
-void mie_phases(const AtmosphereModel& m, size_t n, const float* __restrict nu, float* __restrict out) {
-  for (size_t k = 0; k < n; ++k) out[k] = mie_phase(m, nu[k]);
+// Froxel texel coordinates of `n` opaque pixels at distances d along their
+// rays. The froxel camera may lag the frame's camera under an amortised
+// schedule (by less than the invalidation thresholds: 50 m, 5 deg): the
+// pixel's direction is reprojected into it and the distance kept; the offset
+// of the two positions moves the sample by at most those 50 m, where aerial
+// perspective changes over kilometres. Also a weight for the stretch between
+// the camera and the first slice (T = 1 and nothing scattered at the camera).
+struct FroxelRow {
+  RowDot fwd, right, up;
+  float x_scale, x_bias, y_scale, y_bias;
+  float inv_extent, depth, max_slice, inv_first_slice, max_x, max_y;
+};
+
+void froxel_coordinates(const FroxelRow& c, size_t n, const float* __restrict sx, const float* __restrict dist,
+                        float* __restrict fx, float* __restrict fy, float* __restrict fz, float* __restrict near_w) {
+  for (size_t j = 0; j < n; ++j) {
+    const float s = sx[j];
+    const float z = c.fwd.a0 + s * c.fwd.a1;
+    const float zc = z > 1e-6f ? z : 1e-6f;  // behind the froxel camera: clamp to its frustum edge
+    const float inv_z = 1.0f / zc;
+    fx[j] = clamp_texel((c.right.a0 + s * c.right.a1) * inv_z * c.x_scale + c.x_bias, c.max_x);
+    fy[j] = clamp_texel((c.up.a0 + s * c.up.a1) * inv_z * c.y_scale + c.y_bias, c.max_y);
+    const float d = dist[j];
+    const float sz = std::sqrt(d * c.inv_extent) * c.depth - 0.5f;
+    fz[j] = clamp_texel(sz, c.max_slice);
+    const float w = d * c.inv_first_slice;
+    near_w[j] = sz < 0.0f ? w : 1.0f;
+  }
 }
+
+// The sky over a tile is smooth almost everywhere: it is evaluated exactly on
+// a grid of every kBlock-th pixel and bilinearly interpolated inside each
+// block, except in blocks where that is not accurate: across the horizon (or
+// the planet's limb), near the sun disk, or where the block centre's exact
+// value departs from the interpolation (the forward Mie peak); those are
+// evaluated per pixel.
+constexpr int kBlock = 8;
+constexpr float kBlockTolerance = 3e-3f;  // relative, at the block centre: far below the LUT's own error
+
+struct Scratch {
+  std::vector<float> sx, row_sx, dist, a, b, c, d;
+  std::vector<int> sky, interp, froxel, other;
+  std::vector<glm::vec3> grid;       // exact sky at the grid points
+  std::vector<glm::vec3> edge;       // the grid interpolated to one row
+  std::vector<float> wx;             // per pixel: weight of the grid column to its right
+  std::vector<uint8_t> grid_above;   // grid point above the horizon
+  std::vector<float> grid_nu;        // cosine to the sun at the grid points
+  std::vector<uint8_t> block_exact;  // per block: evaluate every pixel
+  void resize(size_t n) {
+    for (auto* v : {&sx, &row_sx, &dist, &a, &b, &c, &d}) v->resize(n);
+    for (auto* v : {&sky, &interp, &froxel, &other}) v->resize(n);
+  }
+};
+
+// Grid coordinate i of a tile span [a, b): pixel a + i * kBlock, the last one clamped to b - 1.
+inline int grid_pixel(int a, int b, int i) { return std::min(a + i * kBlock, b - 1); }
 
 }  // namespace
 
@@ -119,13 +188,8 @@ glm::vec3 sun_disk_radiance(const SkyFrame& f, const glm::vec3& dir) {
 
 glm::vec3 sky_radiance(const SkyFrame& f, const glm::vec3& dir, bool with_sun_disk) {
   if (!f.valid) return glm::vec3(0.0f);
-  glm::vec3 l;
+  glm::vec3 l = skyview_lookup(f, dir) * f.sun_illuminance;
   const float mu = glm::dot(dir, f.up);
-  if (f.space) {
-    l = march_pixel(f, dir, 1e30).luminance * f.sun_illuminance;
-  } else {
-    l = skyview_lookup(f, dir) * f.sun_illuminance;
-  }
   if (with_sun_disk && mu > f.mu_horizon) {
     const glm::vec3 disk = sun_disk_radiance(f, dir);
     if (disk != glm::vec3(0.0f)) l += disk * f.transmittance->to_top(f.camera_row, mu);
@@ -172,112 +236,229 @@ void composite_sky(const SkyFrame& f, FrameBuffers& buffers, int x0, int y0, int
   const Camera& cam = f.camera;
   const float t = std::tan(0.5f * cam.vfov_rad);
   const size_t n = size_t(x1 - x0);
-  // Per-row work is split in two loops: a branch-free one over the row's pixels
-  // computing directions and sky-view coordinates (it vectorizes), and a
-  // per-pixel one doing the table fetches.
-  thread_local std::vector<float> sx, dx, dy, dz, fu, fv, sun_cos, phase;
-  for (auto* v : {&sx, &dx, &dy, &dz, &fu, &fv, &sun_cos, &phase}) v->resize(n);
-  for (size_t k = 0; k < n; ++k) sx[k] = (2.0f * (float(x0 + int(k)) + 0.5f) / float(w) - 1.0f) * t * cam.aspect;
+  thread_local Scratch s;
+  s.resize(n);
+  auto screen_x = [&](float px) { return (2.0f * (px + 0.5f) / float(w) - 1.0f) * t * cam.aspect; };
+  auto screen_y = [&](float py) { return (1.0f - 2.0f * (py + 0.5f) / float(h)) * t; };
+  for (size_t k = 0; k < n; ++k) s.sx[k] = screen_x(float(x0 + int(k)));
+  const Float4 e = {f.sun_illuminance.x, f.sun_illuminance.y, f.sun_illuminance.z, 0.0f};
+  const Float4 one = {1.0f, 1.0f, 1.0f, 0.0f};
+
+  const SkyViewLut& sv = *f.skyview;
+  const SkyViewMapping& map = sv.mapping();
+  const int sv_w = sv.image().width, sv_h = sv.image().height;
+  const SkyViewTexel* sky_texels = sv.packed().data();
+  SkyRow sr{RowDot(f.up, cam.forward, cam.right), RowDot(f.sun, cam.forward, cam.right),
+            RowDot(f.sun_horizontal, cam.forward, cam.right), 0.0f, 0.0f, 0.0f, map.first_angle,
+            1.0f / (map.zenith_horizon_angle - map.first_angle), map.zenith_horizon_angle, 1.0f / map.beta,
+            float(sv_w - 1), float(sv_h - 1)};
+  const AtmosphereModel& model = f.model;
+  const bool cornette_shanks = model.mie_phase == MiePhaseModel::CornetteShanks;
+  const float g = model.mie_g, g2 = model.mie_g2, lobe = model.mie_lobe_weight;
+
+  // The sky grid of this tile and which blocks need every pixel.
+  const int nbx = (x1 - x0 + kBlock - 1) / kBlock, nby = (y1 - y0 + kBlock - 1) / kBlock;
+  const size_t gw = size_t(nbx) + 1;
+  s.grid.resize(gw * size_t(nby + 1));
+  s.grid_above.resize(s.grid.size());
+  s.grid_nu.resize(s.grid.size());
+  s.block_exact.assign(size_t(nbx) * size_t(nby), 0);
+  s.edge.resize(gw);
+  s.wx.resize(n);
+  for (size_t k = 0; k < n; ++k) {
+    const int bi = int(k) / kBlock;
+    const int gx0 = grid_pixel(x0, x1, bi) - x0, gx1 = grid_pixel(x0, x1, bi + 1) - x0;
+    s.wx[k] = gx1 > gx0 ? float(int(k) - gx0) / float(gx1 - gx0) : 0.0f;
+  }
+  const float cos_horizon = std::cos(map.zenith_horizon_angle);
+  auto direction = [&](float px, float py) {
+    return glm::normalize(cam.forward + screen_x(px) * cam.right + screen_y(py) * cam.up);
+  };
+  bool any_sky = false;
+  for (int y = y0; y < y1 && !any_sky; ++y)
+    for (int x = x0; x < x1 && !any_sky; ++x) any_sky = buffers.depth[buffers.index(x, y)] == 0.0f;
+  if (any_sky) {
+    for (int j = 0; j <= nby; ++j)
+      for (int i = 0; i <= nbx; ++i) {
+        const glm::vec3 dir = direction(float(grid_pixel(x0, x1, i)), float(grid_pixel(y0, y1, j)));
+        const size_t g_i = size_t(j) * gw + size_t(i);
+        s.grid[g_i] = sky_radiance(f, dir, false);
+        s.grid_above[g_i] = glm::dot(dir, f.up) > cos_horizon ? 1 : 0;
+        s.grid_nu[g_i] = glm::dot(dir, f.sun);
+      }
+    // A block's diagonal, as an angle (pixels are largest at the image centre).
+    const float block_angle = 1.5f * float(kBlock) * 2.0f * t / float(h);
+    const float cos_near_sun = std::cos(std::min(model.sun_angular_radius + block_angle, kPi));
+    for (int j = 0; j < nby; ++j)
+      for (int i = 0; i < nbx; ++i) {
+        const size_t c00 = size_t(j) * gw + size_t(i), c10 = c00 + 1, c01 = c00 + gw, c11 = c01 + 1;
+        const int above = s.grid_above[c00] + s.grid_above[c10] + s.grid_above[c01] + s.grid_above[c11];
+        const float nu = std::max(std::max(s.grid_nu[c00], s.grid_nu[c10]), std::max(s.grid_nu[c01], s.grid_nu[c11]));
+        bool exact = (above != 0 && above != 4) || nu > cos_near_sun;
+        if (!exact) {
+          const float cx = 0.5f * float(grid_pixel(x0, x1, i) + grid_pixel(x0, x1, i + 1));
+          const float cy = 0.5f * float(grid_pixel(y0, y1, j) + grid_pixel(y0, y1, j + 1));
+          const glm::vec3 centre = sky_radiance(f, direction(cx, cy), false);
+          const glm::vec3 mean = 0.25f * (s.grid[c00] + s.grid[c10] + s.grid[c01] + s.grid[c11]);
+          const glm::vec3 diff = glm::abs(centre - mean);
+          exact = !(diff.x <= kBlockTolerance * centre.x && diff.y <= kBlockTolerance * centre.y &&
+                    diff.z <= kBlockTolerance * centre.z);
+        }
+        s.block_exact[size_t(j) * size_t(nbx) + size_t(i)] = exact ? 1 : 0;
+      }
+  }
 
   const AerialPerspectiveLut* ap = f.space ? nullptr : f.aerial_perspective.get();
-  const bool direct_froxels = ap && same_camera(ap->camera(), cam, f.camera_position);
-  const float froxel_range = ap ? ap->range() : 0.0f;
-  thread_local std::vector<LutCoord> columns;
-  columns.resize(n);
-  const int froxel_w = ap ? ap->luminance().width : 1;
-  const int froxel_d = ap ? ap->luminance().depth : 1;
-  if (ap)
-    for (size_t k = 0; k < n; ++k)
-      columns[k] = lut_coord((float(x0 + int(k)) + 0.5f) * float(froxel_w) / float(w) - 0.5f, froxel_w);
-  const float fy_scale = ap ? float(ap->luminance().height) / float(h) : 0.0f;
-  const size_t slice_stride = ap ? size_t(froxel_w) * size_t(ap->luminance().height) : 0;
-  const glm::vec3* lum = ap ? ap->luminance().texels.data() : nullptr;
-  const glm::vec3* trans = ap ? ap->transmittance().texels.data() : nullptr;
-  const float froxel_depth = float(froxel_d);
-  const float max_slice = float(froxel_d - 1);
-  // slice_coordinate(d) = sqrt(d / extent) * depth - 0.5, with the division hoisted.
-  const float inv_froxel_total = ap ? 1.0f / ap->extent() : 0.0f;
-  const float first_slice = ap ? ap->slice_distance(0) : 0.0f;
+  const float froxel_range = ap ? ap->range() : -1.0f;
+  FroxelRow fr{};
+  int fw = 1, fh = 1, fd = 1;
+  const FroxelTexel* froxels = nullptr;
+  if (ap) {
+    const FroxelCamera& fc = ap->camera();
+    fw = ap->luminance().width;
+    fh = ap->luminance().height;
+    fd = ap->luminance().depth;
+    froxels = ap->packed().data();
+    fr.x_scale = 0.5f * float(fw) / (fc.tan_half_fov * fc.aspect);
+    fr.x_bias = 0.5f * float(fw) - 0.5f;
+    fr.y_scale = -0.5f * float(fh) / fc.tan_half_fov;
+    fr.y_bias = 0.5f * float(fh) - 0.5f;
+    fr.inv_extent = 1.0f / ap->extent();
+    fr.depth = float(fd);
+    fr.max_slice = float(fd - 1);
+    fr.inv_first_slice = 1.0f / ap->slice_distance(0);
+    fr.max_x = float(fw - 1);
+    fr.max_y = float(fh - 1);
+  }
 
-  const SkyViewLut* sv = f.space ? nullptr : f.skyview.get();
-  const float zha = sv ? sv->mapping().zenith_horizon_angle : 1.0f;
-  const float inv_zha = 1.0f / zha;
-  const float inv_beta = sv ? 1.0f / sv->mapping().beta : 1.0f;
-  const float u_scale = sv ? float(sv->image().width - 1) : 0.0f;
-  const float v_scale = sv ? float(sv->image().height - 1) : 0.0f;
-  const glm::vec3 up = f.up, sh = f.sun_horizontal, sun = f.sun;
-
-  RowConstants rc;
-  rc.right = cam.right;
-  rc.up = up;
-  rc.sun_horizontal = sh;
-  rc.sun = sun;
-  rc.zha = zha;
-  rc.inv_zha = inv_zha;
-  rc.inv_beta = inv_beta;
-  rc.u_scale = u_scale;
-  rc.v_scale = v_scale;
   for (int y = y0; y < y1; ++y) {
-    const float sy = (1.0f - 2.0f * (float(y) + 0.5f) / float(h)) * t;
-    rc.base = cam.forward + sy * cam.up;
-    // Directions are only needed for sky pixels and off the direct froxel path.
-    bool needs_directions = !direct_froxels;
-    for (int x = x0; x < x1 && !needs_directions; ++x) {
-      const size_t i = buffers.index(x, y);
-      needs_directions = buffers.depth[i] == 0.0f || buffers.distance[i] > froxel_range;
-    }
-    if (needs_directions) {
-      row_coordinates(rc, n, sx.data(), dx.data(), dy.data(), dz.data(), sun_cos.data(), fu.data(), fv.data());
-      if (sv) mie_phases(f.model, n, sun_cos.data(), phase.data());
-    }
-    const LutCoord fy = lut_coord((float(y) + 0.5f) * fy_scale - 0.5f, ap ? ap->luminance().height : 1);
-    const size_t row0 = size_t(fy.i0) * size_t(froxel_w), row1 = size_t(fy.i1) * size_t(froxel_w);
+    const float sy = screen_y(float(y));
+    const glm::vec3 base = cam.forward + sy * cam.up;
+    const size_t row = buffers.index(x0, y);
+    const float* depth = buffers.depth.data() + row;
+    const float* distance = buffers.distance.data() + row;
+    glm::vec3* color = buffers.color.data() + row;
+    const int bj = (y - y0) / kBlock;
+    const uint8_t* exact_blocks = s.block_exact.data() + size_t(bj) * size_t(nbx);
+    // Split the row's pixels: sky (per pixel or interpolated), inside the froxel range, and the rest (marched).
+    size_t n_sky = 0, n_interp = 0, n_froxel = 0, n_other = 0;
     for (size_t k = 0; k < n; ++k) {
-      const int x = x0 + int(k);
-      const size_t i = buffers.index(x, y);
-      glm::vec3& c = buffers.color[i];
-      if (buffers.depth[i] == 0.0f) {
-        if (sv) {
-          const LutCoord cu = lut_coord(fu[k], sv->image().width), cv = lut_coord(fv[k], sv->image().height);
-          c = (sample_bilinear(sv->image(), cu, cv) + sample_bilinear(sv->mie_image(), cu, cv) * phase[k]) *
-              f.sun_illuminance;
-          if (sun_cos[k] > f.cos_sun_radius) {
-            const glm::vec3 dir(dx[k], dy[k], dz[k]);
-            const float mu = glm::dot(dir, up);
-            if (mu > f.mu_horizon) c += sun_disk_radiance(f, dir) * f.transmittance->to_top(f.camera_row, mu);
-          }
-        } else {
-          c = sky_radiance(f, glm::vec3(dx[k], dy[k], dz[k]), true);
-        }
-        continue;
+      const bool sky = depth[k] == 0.0f;
+      const bool exact = sky && exact_blocks[k / kBlock] != 0;
+      const bool froxel = !sky && distance[k] <= froxel_range;
+      s.sky[n_sky] = int(k);
+      s.interp[n_interp] = int(k);
+      s.froxel[n_froxel] = int(k);
+      s.other[n_other] = int(k);
+      n_sky += exact ? 1 : 0;
+      n_interp += (sky && !exact) ? 1 : 0;
+      n_froxel += froxel ? 1 : 0;
+      n_other += (!sky && !froxel) ? 1 : 0;
+    }
+    const float len0 = glm::dot(base, base), len1 = 2.0f * glm::dot(base, cam.right),
+                len2 = glm::dot(cam.right, cam.right);
+
+    if (n_interp > 0) {
+      const int gy0 = grid_pixel(y0, y1, bj), gy1 = grid_pixel(y0, y1, bj + 1);
+      const float wy = gy1 > gy0 ? float(y - gy0) / float(gy1 - gy0) : 0.0f;
+      // The grid row interpolated to this row, then each pixel between its two grid columns.
+      const glm::vec3* g0 = s.grid.data() + size_t(bj) * gw;
+      const glm::vec3* g1 = g0 + gw;
+      for (size_t i = 0; i < gw; ++i) s.edge[i] = g0[i] + (g1[i] - g0[i]) * wy;
+      for (size_t j = 0; j < n_interp; ++j) {
+        const size_t k = size_t(s.interp[j]);
+        const size_t bi = k / size_t(kBlock);
+        color[k] = s.edge[bi] + (s.edge[bi + 1] - s.edge[bi]) * s.wx[k];
       }
-      const float d = buffers.distance[i];
-      if (direct_froxels && d <= froxel_range) {
-        // Trilinear froxel fetch with the column and row weights of this tile/row.
-        float sz = std::sqrt(d * inv_froxel_total) * froxel_depth - 0.5f;
-        sz = sz < max_slice ? (sz > 0.0f ? sz : 0.0f) : max_slice;
-        const int z0 = int(sz);
-        const int z1 = z0 + 1 < froxel_d ? z0 + 1 : z0;
-        const float wz = sz - float(z0);
-        const LutCoord& cx = columns[k];
-        auto fetch = [&](const glm::vec3* img, int z) {
-          const glm::vec3* p = img + size_t(z) * slice_stride;
-          const glm::vec3 a = p[row0 + size_t(cx.i0)] + (p[row0 + size_t(cx.i1)] - p[row0 + size_t(cx.i0)]) * cx.w;
-          const glm::vec3 b = p[row1 + size_t(cx.i0)] + (p[row1 + size_t(cx.i1)] - p[row1 + size_t(cx.i0)]) * cx.w;
-          return a + (b - a) * fy.w;
+    }
+
+    if (n_sky > 0) {      sr.up = RowDot(f.up, base, cam.right);
+      sr.sun = RowDot(f.sun, base, cam.right);
+      sr.sun_h = RowDot(f.sun_horizontal, base, cam.right);
+      sr.len0 = len0;
+      sr.len1 = len1;
+      sr.len2 = len2;
+      for (size_t j = 0; j < n_sky; ++j) s.row_sx[j] = s.sx[size_t(s.sky[j])];
+      float *fu = s.a.data(), *fv = s.b.data(), *ph = s.c.data(), *nu = s.d.data();
+      if (cornette_shanks)
+        sky_coordinates(sr, [g](float c) { return cornette_shanks_phase(c, g); }, n_sky, s.row_sx.data(), fu, fv,
+                        ph, nu);
+      else
+        sky_coordinates(
+            sr,
+            [g, g2, lobe](float c) {
+              return lobe * henyey_greenstein_phase(c, g) + (1.0f - lobe) * henyey_greenstein_phase(c, g2);
+            },
+            n_sky, s.row_sx.data(), fu, fv, ph, nu);
+      for (size_t j = 0; j < n_sky; ++j) {
+        const int u0 = int(fu[j]), v0 = int(fv[j]);
+        const int du = u0 + 1 < sv_w ? 1 : 0;
+        const size_t dv = v0 + 1 < sv_h ? size_t(sv_w) : 0;
+        const Float4 wu = Float4{} + (fu[j] - float(u0)), wv = Float4{} + (fv[j] - float(v0));
+        const SkyViewTexel* p = sky_texels + size_t(v0) * size_t(sv_w) + size_t(u0);
+        auto bilinear = [&](size_t part) {
+          const float* q = reinterpret_cast<const float*>(p) + part;
+          const Float4 a = load4(q), b = load4(q + 8 * du);
+          const Float4 c = load4(q + 8 * dv), d = load4(q + 8 * (dv + size_t(du)));
+          const Float4 top = a + (b - a) * wu, bottom = c + (d - c) * wu;
+          return top + (bottom - top) * wv;
         };
-        const glm::vec3 l0 = fetch(lum, z0), t0 = fetch(trans, z0);
-        if (d < first_slice) {  // between the camera (T = 1, nothing scattered) and the first slice
-          const float wd = d / first_slice;
-          c = c * (glm::vec3(1.0f) + (t0 - glm::vec3(1.0f)) * wd) + l0 * wd * f.sun_illuminance;
-          continue;
+        const Float4 l = (bilinear(0) + bilinear(4) * ph[j]) * e;
+        const size_t k = size_t(s.sky[j]);
+        glm::vec3 out(l[0], l[1], l[2]);
+        if (nu[j] > f.cos_sun_radius) {  // the sun disk: a handful of pixels
+          const float sx = s.sx[k];
+          const glm::vec3 dir = glm::normalize(base + sx * cam.right);
+          const float mu = glm::dot(dir, f.up);
+          if (mu > f.mu_horizon) out += sun_disk_radiance(f, dir) * f.transmittance->to_top(f.camera_row, mu);
         }
-        const glm::vec3 l = l0 + (fetch(lum, z1) - l0) * wz;
-        const glm::vec3 tr = t0 + (fetch(trans, z1) - t0) * wz;
-        c = c * tr + l * f.sun_illuminance;
-      } else {
-        c = apply_aerial_perspective(f, glm::vec3(dx[k], dy[k], dz[k]), d, c);
+        color[k] = out;
       }
+    }
+
+    if (n_froxel > 0) {
+      const FroxelCamera& fc = ap->camera();
+      fr.fwd = RowDot(fc.forward, base, cam.right);
+      fr.right = RowDot(fc.right, base, cam.right);
+      fr.up = RowDot(fc.up, base, cam.right);
+      for (size_t j = 0; j < n_froxel; ++j) {
+        s.row_sx[j] = s.sx[size_t(s.froxel[j])];
+        s.dist[j] = distance[s.froxel[j]];
+      }
+      float *fx = s.a.data(), *fy = s.b.data(), *fz = s.c.data(), *near_w = s.d.data();
+      froxel_coordinates(fr, n_froxel, s.row_sx.data(), s.dist.data(), fx, fy, fz, near_w);
+      const size_t slice = size_t(fw) * size_t(fh);
+      for (size_t j = 0; j < n_froxel; ++j) {
+        const int ix = int(fx[j]), iy = int(fy[j]), iz = int(fz[j]);
+        const size_t dx = ix + 1 < fw ? 1 : 0, dy = iy + 1 < fh ? size_t(fw) : 0, dz = iz + 1 < fd ? slice : 0;
+        const Float4 wx = Float4{} + (fx[j] - float(ix)), wy = Float4{} + (fy[j] - float(iy)),
+                     wz = Float4{} + (fz[j] - float(iz));
+        const FroxelTexel* p = froxels + size_t(iz) * slice + size_t(iy) * size_t(fw) + size_t(ix);
+        auto trilinear = [&](size_t part) {
+          const float* q = reinterpret_cast<const float*>(p) + part;
+          auto bilinear = [&](const float* r) {
+            const Float4 a = load4(r), b = load4(r + 8 * dx);
+            const Float4 c = load4(r + 8 * dy), d = load4(r + 8 * (dy + dx));
+            const Float4 top = a + (b - a) * wx, bottom = c + (d - c) * wx;
+            return top + (bottom - top) * wy;
+          };
+          const Float4 front = bilinear(q), back = bilinear(q + 8 * dz);
+          return front + (back - front) * wz;
+        };
+        const Float4 near = Float4{} + near_w[j];
+        const Float4 l = trilinear(0) * near;
+        const Float4 tr = one + (trilinear(4) - one) * near;
+        const size_t k = size_t(s.froxel[j]);
+        const Float4 c = {color[k].x, color[k].y, color[k].z, 0.0f};
+        const Float4 out = c * tr + l * e;
+        color[k] = glm::vec3(out[0], out[1], out[2]);
+      }
+    }
+
+    for (size_t j = 0; j < n_other; ++j) {
+      const size_t k = size_t(s.other[j]);
+      const glm::vec3 dir = glm::normalize(base + s.sx[k] * cam.right);
+      color[k] = apply_aerial_perspective(f, dir, distance[k], color[k]);
     }
   }
 }

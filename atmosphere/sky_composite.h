@@ -1,8 +1,10 @@
 #pragma once
 // The per-pixel composite: sky (sky-view LUT + sun disk with limb darkening,
-// attenuated by the transmittance LUT) where nothing was drawn, aerial
-// perspective (froxel LUT, trilinear; ray-marched beyond its range) on opaque
-// pixels, and per-pixel ray marching for both in the space fallback.
+// attenuated by the transmittance LUT) where nothing was drawn, evaluated on a
+// grid and interpolated where that is exact to 0.3%; aerial perspective
+// (froxel LUT, trilinear; ray-marched beyond its range) on opaque pixels. In
+// the space fallback the sky-view LUT is the one built for space and opaque
+// pixels are ray marched.
 #include <glm/glm.hpp>
 
 #include "atmosphere/sky_frame.h"

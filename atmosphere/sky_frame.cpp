@@ -23,7 +23,7 @@ SkyFrame make_sky_frame(const LutScheduler& luts, const AtmospherePlan& plan, co
   f.skyview = luts.skyview();
   f.aerial_perspective = luts.aerial_perspective();
   f.space = plan.space;
-  f.valid = f.transmittance && f.multiscattering && (f.space || (f.skyview && f.aerial_perspective));
+  f.valid = f.transmittance && f.multiscattering && f.skyview && (f.space || f.aerial_perspective);
   f.model = f.transmittance ? f.transmittance->model() : luts.model();
   const AtmosphereSettings& s = luts.settings();
   f.space_steps = s.space_steps;

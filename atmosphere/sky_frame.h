@@ -17,7 +17,7 @@ namespace cr {
 
 struct SkyFrame {
   bool valid = false;
-  bool space = false;  // per-pixel ray marching instead of the sky-view/AP LUTs
+  bool space = false;  // camera above the space altitude: sky-view LUT seen from space, geometry ray marched
   AtmosphereModel model;
   std::shared_ptr<const TransmittanceLut> transmittance;       // latest, for the sun
   std::shared_ptr<const TransmittanceLut> ms_transmittance;    // the one the MS LUT was built from

@@ -8,19 +8,22 @@
 
 namespace cr {
 
-SkyViewMapping::SkyViewMapping(double ground_radius, double altitude) {
+SkyViewMapping::SkyViewMapping(double ground_radius, double top_radius, double altitude) {
   const double h = std::max(altitude, 0.0);
   const double to_horizon = std::sqrt(h * (2.0 * ground_radius + h));
   const double b = std::atan2(ground_radius, to_horizon);  // precise even a metre above the ground
   beta = float(b);
   zenith_horizon_angle = float(M_PI - b);
+  const double r = ground_radius + h;
+  first_angle = r > top_radius ? float(M_PI - std::asin(top_radius / r)) : 0.0f;
 }
 
 glm::vec2 SkyViewMapping::to_unit(float cos_view_zenith, float cos_longitude) const {
   const float angle = fast_acos(cos_view_zenith);
   float v;
   if (angle < zenith_horizon_angle) {
-    v = 0.5f * (1.0f - std::sqrt(std::max(0.0f, 1.0f - angle / zenith_horizon_angle)));
+    const float above = (angle - first_angle) / (zenith_horizon_angle - first_angle);
+    v = 0.5f * (1.0f - std::sqrt(std::clamp(1.0f - above, 0.0f, 1.0f)));
   } else {
     v = 0.5f + 0.5f * std::sqrt(std::min(1.0f, (angle - zenith_horizon_angle) / beta));
   }
@@ -32,7 +35,7 @@ void SkyViewMapping::from_unit(glm::vec2 unit, double& cos_view_zenith, double& 
   double angle;
   if (unit.y < 0.5f) {
     const double c = 1.0 - 2.0 * double(unit.y);
-    angle = double(zenith_horizon_angle) * (1.0 - c * c);
+    angle = double(first_angle) + double(zenith_horizon_angle - first_angle) * (1.0 - c * c);
   } else {
     const double c = 2.0 * double(unit.y) - 1.0;
     angle = double(zenith_horizon_angle) + double(beta) * c * c;
@@ -42,14 +45,15 @@ void SkyViewMapping::from_unit(glm::vec2 unit, double& cos_view_zenith, double& 
 }
 
 SkyViewLut::SkyViewLut(int width, int height, int min_steps, int max_steps, float altitude, float mu_s,
-                       double ground_radius)
+                       double ground_radius, double top_radius)
     : min_steps_(min_steps),
       max_steps_(max_steps),
       altitude_(altitude),
       mu_s_(mu_s),
-      mapping_(ground_radius, altitude),
+      mapping_(ground_radius, top_radius, altitude),
       image_(width, height),
-      mie_(width, height) {}
+      mie_(width, height),
+      packed_(size_t(width) * height, SkyViewTexel{}) {}
 
 void SkyViewLut::bake(size_t begin, size_t end, const AtmosphereLuts& luts) {
   const AtmosphereModel& m = luts.model;
@@ -64,12 +68,19 @@ void SkyViewLut::bake(size_t begin, size_t end, const AtmosphereLuts& luts) {
     double cos_vz, unused;
     mapping_.from_unit(glm::vec2(0.0f, float(y) / float(image_.height - 1)), cos_vz, unused);
     const double sin_vz = std::sqrt(std::max(0.0, 1.0 - cos_vz * cos_vz));
-    // The row's ray is the same for every longitude: march it once.
+    // The row's ray is the same for every longitude: march it once. From
+    // space it starts where it enters the atmosphere (the tangent row has none).
     const double t_ground = distance_to_ground(r, cos_vz, m.bottom_radius);
-    const double t_end = t_ground >= 0.0 ? t_ground : std::max(distance_to_sphere_exit(r, cos_vz, m.top_radius), 0.0);
-    const int steps = variable_steps(float(t_end), min_steps_, max_steps_);
-    march(luts, altitude_, float(cos_vz), 0.0f, float(t_end), steps, StepSpacing::Quadratic, t_ground >= 0.0,
-          0.0f, ray);
+    const double t_exit = std::max(distance_to_sphere_exit(r, cos_vz, m.top_radius), 0.0);
+    const double t_begin = r > m.top_radius ? std::max(-r * cos_vz - std::sqrt(std::max(
+                                                             r * r * (cos_vz * cos_vz - 1.0) + m.top_radius * m.top_radius, 0.0)), 0.0)
+                                            : 0.0;
+    // Row 0 from space is the tangent to the top: no atmosphere along it (exactly, not up to rounding).
+    const bool tangent = r > m.top_radius && y == 0;
+    const double t_end = tangent ? t_begin : (t_ground >= 0.0 ? t_ground : std::max(t_exit, t_begin));
+    const int steps = variable_steps(float(t_end - t_begin), min_steps_, max_steps_);
+    march(luts, altitude_, float(cos_vz), float(t_begin), float(t_end), steps, StepSpacing::Quadratic,
+          t_ground >= 0.0, 0.0f, ray);
     for (; i < row_end; ++i) {
       const int x = int(i % size_t(w));
       double unused_vz, cos_lon;
@@ -78,6 +89,8 @@ void SkyViewLut::bake(size_t begin, size_t end, const AtmosphereLuts& luts) {
       const ShadedRay shaded = shade_split(luts, ray, mu_s_, float(std::clamp(nu, -1.0, 1.0)));
       image_.texels[i] = shaded.rest;
       mie_.texels[i] = shaded.mie_unphased;
+      packed_[i] = {{shaded.rest.x, shaded.rest.y, shaded.rest.z, 0.0f},
+                    {shaded.mie_unphased.x, shaded.mie_unphased.y, shaded.mie_unphased.z, 0.0f}};
     }
   }
 }

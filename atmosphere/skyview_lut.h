@@ -6,7 +6,12 @@
 // middle rows and squeezes texels towards it on both sides; the longitude
 // mapping u = sqrt((1 - cos)/2) concentrates texels towards the sun. The Mie
 // single scattering is stored without its phase, which is applied per pixel.
+// Above the atmosphere (camera in space) the same parameterisation holds with
+// the rows spanning only the directions that meet the atmosphere: from the
+// tangent to its top down to the nadir, the planet's limb between the middle
+// rows; the sky there is one LUT lookup instead of a per-pixel ray march.
 #include <cstddef>
+#include <vector>
 
 #include <glm/glm.hpp>
 
@@ -18,19 +23,27 @@ namespace cr {
 struct SkyViewMapping {
   float zenith_horizon_angle = 0.0f;  // zenith angle of the horizon (> pi/2 above the ground)
   float beta = 0.0f;                  // angle between the horizon and the nadir
+  float first_angle = 0.0f;           // zenith angle of row 0: 0 inside the atmosphere, its tangent from space
 
   SkyViewMapping() = default;
-  SkyViewMapping(double ground_radius, double altitude);
+  SkyViewMapping(double ground_radius, double top_radius, double altitude);
   // (cos view zenith, cos longitude from the sun) -> unit square
   glm::vec2 to_unit(float cos_view_zenith, float cos_longitude) const;
   void from_unit(glm::vec2 unit, double& cos_view_zenith, double& cos_longitude) const;
 };
 
+// A texel laid out for the composite: both parts of one texel in one 32-byte block.
+struct SkyViewTexel {
+  float rest[4];          // rgb, pad
+  float mie_unphased[4];  // rgb, pad
+};
+
 class SkyViewLut {
  public:
   SkyViewLut() = default;
-  // The LUT for a camera at `altitude` with the sun at zenith cosine `mu_s`.
-  SkyViewLut(int width, int height, int min_steps, int max_steps, float altitude, float mu_s, double ground_radius);
+  // The LUT for a camera at `altitude` (above the top: seen from space) with the sun at zenith cosine `mu_s`.
+  SkyViewLut(int width, int height, int min_steps, int max_steps, float altitude, float mu_s, double ground_radius,
+             double top_radius);
 
   void bake(size_t begin, size_t end, const AtmosphereLuts& luts);  // texels [begin, end), row-major
   size_t texel_count() const { return image_.count(); }
@@ -48,6 +61,7 @@ class SkyViewLut {
   float mu_s() const { return mu_s_; }
   const LutImage& image() const { return image_; }      // all but Mie single scattering
   const LutImage& mie_image() const { return mie_; }    // Mie single scattering without phase
+  const std::vector<SkyViewTexel>& packed() const { return packed_; }  // both images interleaved
 
  private:
   int min_steps_ = 4;
@@ -57,6 +71,7 @@ class SkyViewLut {
   SkyViewMapping mapping_;
   LutImage image_;
   LutImage mie_;
+  std::vector<SkyViewTexel> packed_;
 };
 
 }  // namespace cr

@@ -136,8 +136,8 @@ TEST_CASE("LUT mappings round-trip") {
       CHECK(back.x == doctest::Approx(x).epsilon(2e-3));
       CHECK(back.y == doctest::Approx(y).epsilon(1e-3));
     }
-  for (double altitude : {1.0, 1000.0, 50000.0}) {
-    const SkyViewMapping sm(m.bottom_radius, altitude);
+  for (double altitude : {1.0, 1000.0, 50000.0, 400e3}) {
+    const SkyViewMapping sm(m.bottom_radius, m.top_radius, altitude);
     for (float u : {0.0f, 0.2f, 0.7f, 1.0f})
       for (float v : {0.02f, 0.3f, 0.49f, 0.51f, 0.8f, 0.98f}) {
         double cz, cl;

@@ -170,14 +170,15 @@ TEST_CASE("the full schedule rebuilds all four every frame") {
   CHECK(r.contains("amortised_ms"));
 }
 
-TEST_CASE("above the space altitude the sky-view and AP LUTs are not built") {
+TEST_CASE("above the space altitude the AP LUT is not built and the sky-view LUT is seen from space") {
   JobSystem jobs(1);
   LutScheduler s(small_settings());
   const AtmospherePlan p = run_frame(s, 0, camera_at(400e3), sun_from_zenith(30.0), jobs);
   CHECK(p.space);
   CHECK(work(p, LutKind::Transmittance) == "initial");
-  CHECK(work(p, LutKind::SkyView) == "-");
+  CHECK(work(p, LutKind::SkyView) == "initial");
   CHECK(work(p, LutKind::AerialPerspective) == "-");
+  CHECK(s.skyview()->mapping().first_angle > 1.5f);  // only directions that meet the atmosphere
   const SkyFrame f = frame_of(s, p, camera_at(400e3));
   CHECK(f.valid);
   // Looking down at the planet: lit ground and atmosphere; looking up: black space.
@@ -185,9 +186,11 @@ TEST_CASE("above the space altitude the sky-view and AP LUTs are not built") {
   const glm::vec3 up = sky_radiance(f, glm::vec3(0.0f, 1.0f, 0.0f), false);
   CHECK(down.y > 100.0f);
   CHECK(up == glm::vec3(0.0f));
-  // Coming back down: the two LUTs are built again.
+  // Coming back down: the AP LUT is built and the sky-view LUT rebuilt for the new altitude.
   const AtmospherePlan back = run_frame(s, 1, camera_at(2.0), sun_from_zenith(30.0), jobs);
-  CHECK(work(back, LutKind::SkyView) == "initial");
+  CHECK(work(back, LutKind::SkyView) == "camera");
+  CHECK(work(back, LutKind::AerialPerspective) == "initial");
+  CHECK(s.skyview()->mapping().first_angle == 0.0f);
 }
 
 TEST_CASE("LUTs and composite are bit-identical for 1, 2 and 3 threads") {

@@ -2,7 +2,9 @@
 // lighting's physical sanity, and the stability sweep.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "atmosphere/multiscattering_lut.h"
 #include "atmosphere/phase_functions.h"
@@ -255,4 +257,108 @@ TEST_CASE("the sky is smooth across the horizon and around the zenith") {
     if (prev > 0.0f) CHECK(std::abs(l - prev) < 0.08f * prev);
     prev = l;
   }
+}
+
+namespace {
+
+// The per-pixel luminance error of the composite against sky_radiance / apply_aerial_perspective per pixel.
+struct CompositeCheck {
+  double sky_max = 0.0, sky_mean = 0.0, ap_max = 0.0;
+  int sky = 0, ap = 0, disk = 0;
+};
+
+CompositeCheck check_composite(const SkyFrame& f, const Camera& cam, int w, int h, float ground_distance) {
+  FrameBuffers b;
+  b.resize(w, h);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const glm::vec3 d = cam.ray_direction(float(x) + 0.5f, float(y) + 0.5f, w, h);
+      const size_t i = b.index(x, y);
+      if (ground_distance > 0.0f && d.y < -0.02f) {
+        b.depth[i] = 0.5f;
+        b.distance[i] = ground_distance * float(1 + x % 7);
+        b.color[i] = glm::vec3(500.0f, 400.0f, 300.0f);
+      }
+    }
+  const FrameBuffers before = b;
+  for (int y0 = 0; y0 < h; y0 += 64)
+    for (int x0 = 0; x0 < w; x0 += 64) composite_sky(f, b, x0, y0, std::min(w, x0 + 64), std::min(h, y0 + 64));
+  CompositeCheck c;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const size_t i = b.index(x, y);
+      const glm::vec3 d = cam.ray_direction(float(x) + 0.5f, float(y) + 0.5f, w, h);
+      const bool sky = before.depth[i] == 0.0f;
+      const glm::vec3 expect = sky ? sky_radiance(f, d, true) : apply_aerial_perspective(f, d, before.distance[i], before.color[i]);
+      const double ref = luminance(expect);
+      const double err = std::abs(luminance(b.color[i]) - ref) / std::max(ref, 1e-3);
+      if (sky) {
+        c.sky_max = std::max(c.sky_max, err);
+        c.sky_mean += err;
+        ++c.sky;
+        c.disk += sun_disk_radiance(f, d) != glm::vec3(0.0f) ? 1 : 0;
+      } else {
+        c.ap_max = std::max(c.ap_max, err);
+        ++c.ap;
+      }
+    }
+  c.sky_mean /= std::max(c.sky, 1);
+  return c;
+}
+
+}  // namespace
+
+TEST_CASE("the composite matches per-pixel evaluation (sky interpolated in blocks, sun disk, froxels)") {
+  JobSystem jobs(1);
+  LutScheduler s(AtmosphereSettings{});
+  // Looking towards a low sun: horizon, halo and disk in view.
+  const Camera cam = Camera::look_at(glm::dvec3(0.0, 2.0, 0.0), glm::dvec3(1000.0, 60.0, 20.0), 1.0471976f,
+                                     16.0f / 9.0f, 0.1f);
+  const AtmospherePlan p = run_frame(s, 0, cam, glm::normalize(glm::vec3(1.0f, 0.08f, 0.0f)), jobs);
+  const SkyFrame f = frame_of(s, p, cam);
+  const CompositeCheck c = check_composite(f, cam, 320, 180, 700.0f);
+  CAPTURE(c.sky_max);
+  CAPTURE(c.sky_mean);
+  CAPTURE(c.ap_max);
+  MESSAGE("composite vs per pixel: sky mean " << c.sky_mean << ", sky max " << c.sky_max << ", AP max " << c.ap_max);
+  CHECK(c.sky > 10000);
+  CHECK(c.ap > 10000);
+  CHECK(c.disk > 0);
+  CHECK(c.sky_mean < 1e-3);
+  CHECK(c.sky_max < 0.01);  // the interpolation's worst pixel
+  CHECK(c.ap_max < 1e-3);
+}
+
+TEST_CASE("from space the sky-view LUT matches the per-pixel ray march it replaces") {
+  JobSystem jobs(1);
+  LutScheduler s(AtmosphereSettings{});
+  const Camera cam = Camera::look_at(glm::dvec3(0.0, 400e3, 0.0), glm::dvec3(2200e3, 0.0, 0.0), 1.0471976f,
+                                     16.0f / 9.0f, 1.0f);
+  const AtmospherePlan p = run_frame(s, 0, cam, sun_from_zenith(70.0), jobs);
+  REQUIRE(p.space);
+  const SkyFrame f = frame_of(s, p, cam);
+  const AtmosphereLuts luts{f.model, *f.ms_transmittance, *f.multiscattering};
+  MarchedRay scratch;
+  double sum = 0.0;
+  std::vector<double> errors;
+  for (int y = 0; y < 90; ++y)
+    for (int x = 0; x < 160; ++x) {
+      const glm::vec3 d = cam.ray_direction(float(x) + 0.5f, float(y) + 0.5f, 160, 90);
+      const double mu = glm::dot(glm::dvec3(d), f.camera_position / glm::length(f.camera_position));
+      const RayScattering ref = integrate_ray(luts, f.camera_radius, mu, f.mu_s, glm::dot(d, f.sun), 1e30,
+                                              f.skyview_min_steps, f.space_steps, scratch);
+      const double yr = luminance(ref.luminance * f.sun_illuminance);
+      if (yr < 1.0) continue;  // space, and the planet's night side
+      const double e = std::abs(luminance(sky_radiance(f, d, false)) - yr) / yr;
+      errors.push_back(e);
+      sum += e;
+    }
+  REQUIRE(errors.size() > 5000);
+  std::sort(errors.begin(), errors.end());
+  const double mean = sum / double(errors.size()), p95 = errors[errors.size() * 95 / 100];
+  CAPTURE(mean);
+  CAPTURE(p95);
+  MESSAGE("space sky-view LUT vs per-pixel march: mean " << mean << ", p95 " << p95);
+  CHECK(mean < 0.01);
+  CHECK(p95 < 0.03);
 }
