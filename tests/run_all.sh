@@ -8,6 +8,12 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 ./tests/setup_debian.sh
 jobs=$(nproc)
+# Optional third-party models (README: "Third-party models"): a checkout next
+# to ../shared/assets uses them unless CR_ASSETS_DIR says otherwise.
+if [ -z "${CR_ASSETS_DIR:-}" ] && [ -d ../shared/assets ]; then
+  CR_ASSETS_DIR=$(cd ../shared/assets && pwd)
+  export CR_ASSETS_DIR
+fi
 
 build_and_test() {  # dir, build type, sanitizer, "targets" (empty = all), ctest args...
   local dir=$1 type=$2 san=$3 targets=$4; shift 4
