@@ -222,6 +222,38 @@ void scatter(const Reference& ref, const Medium& at, glm::dvec3& dir, glm::dvec3
 // segment (distance sampled from the truncated free-flight pdf, spectral MIS)
 // plus, when the ray hits the ground, the ground vertex weighted by the
 // transmittance; so no path is wasted on rays that would leave the atmosphere.
+// Free flight along a span: marches until the optical depth of `channel`
+// reaches `target` (a collision) or the span ends, with exact interpolation
+// inside the step where it crosses.
+struct FreeFlight {
+  double t = 0.0;
+  glm::dvec3 tau{0.0};
+  Medium medium{};
+  bool collided = false;
+};
+
+FreeFlight fly(const Reference& ref, const glm::dvec3& pos, const glm::dvec3& dir, const Reference::Span& sp,
+               int channel, double target) {
+  FreeFlight f;
+  f.t = sp.t0;
+  while (f.t < sp.t1) {
+    const double ds = std::min(Reference::step(ref.altitude(pos + f.t * dir)), sp.t1 - f.t);
+    const Medium med = ref.medium(ref.altitude(pos + (f.t + 0.5 * ds) * dir));
+    const glm::dvec3 next = f.tau + med.extinction * ds;
+    if (next[channel] >= target && med.extinction[channel] > 0.0) {
+      const double dt = (target - f.tau[channel]) / med.extinction[channel];
+      f.t += dt;
+      f.tau += med.extinction * dt;
+      f.medium = med;
+      f.collided = true;
+      return f;
+    }
+    f.tau = next;
+    f.t += ds;
+  }
+  return f;
+}
+
 glm::dvec3 multiple_scattering_path(const Reference& ref, glm::dvec3 pos, glm::dvec3 dir, const glm::dvec3& s,
                                     const glm::dvec3& e, int max_bounces, Rng& rng) {
   const Reference::Span sp = ref.span(pos, dir);
@@ -239,27 +271,11 @@ glm::dvec3 multiple_scattering_path(const Reference& ref, glm::dvec3 pos, glm::d
   const int channel = std::min(2, int(rng.uniform() * 3.0));
   if (!(hit_prob[channel] > 0.0)) return l;
   const double target = -std::log(1.0 - rng.uniform() * hit_prob[channel]);
-  glm::dvec3 tau(0.0);
-  double t = sp.t0;
-  Medium at{};
-  bool collided = false;
-  while (t < sp.t1) {
-    const double ds = std::min(Reference::step(ref.altitude(pos + t * dir)), sp.t1 - t);
-    const Medium med = ref.medium(ref.altitude(pos + (t + 0.5 * ds) * dir));
-    const glm::dvec3 next = tau + med.extinction * ds;
-    if (next[channel] >= target && med.extinction[channel] > 0.0) {
-      const double dt = (target - tau[channel]) / med.extinction[channel];
-      t += dt;
-      tau += med.extinction * dt;
-      at = med;
-      collided = true;
-      break;
-    }
-    tau = next;
-    t += ds;
-  }
-  if (!collided) return l;  // rounding at the far end
-  const glm::dvec3 tr = glm::exp(-tau);
+  const FreeFlight f = fly(ref, pos, dir, sp, channel, target);
+  if (!f.collided) return l;  // rounding at the far end
+  const double t = f.t;
+  const Medium& at = f.medium;
+  const glm::dvec3 tr = glm::exp(-f.tau);
   double pdf = 0.0;
   for (int k = 0; k < 3; ++k)
     if (hit_prob[k] > 0.0) pdf += at.extinction[k] * tr[k] / hit_prob[k];
@@ -281,26 +297,11 @@ glm::dvec3 trace(const Reference& ref, glm::dvec3 pos, glm::dvec3 dir, glm::dvec
     // Free flight: one channel's extinction, chosen uniformly (one-sample spectral MIS).
     const int channel = std::min(2, int(rng.uniform() * 3.0));
     const double target = -std::log(1.0 - rng.uniform());
-    glm::dvec3 tau(0.0);
-    double t = sp.t0;
-    bool collided = false;
-    Medium at{};
-    while (t < sp.t1) {
-      const double ds = std::min(Reference::step(ref.altitude(pos + t * dir)), sp.t1 - t);
-      const Medium med = ref.medium(ref.altitude(pos + (t + 0.5 * ds) * dir));
-      const glm::dvec3 next = tau + med.extinction * ds;
-      if (next[channel] >= target && med.extinction[channel] > 0.0) {
-        const double dt = (target - tau[channel]) / med.extinction[channel];
-        t += dt;
-        tau += med.extinction * dt;
-        at = med;
-        collided = true;
-        break;
-      }
-      tau = next;
-      t += ds;
-    }
-    const glm::dvec3 tr = glm::exp(-tau);
+    const FreeFlight f = fly(ref, pos, dir, sp, channel, target);
+    const double t = f.t;
+    const bool collided = f.collided;
+    const Medium& at = f.medium;
+    const glm::dvec3 tr = glm::exp(-f.tau);
     if (collided) {
       const glm::dvec3 x = pos + t * dir;
       const double pdf_t = mean(at.extinction * tr);
