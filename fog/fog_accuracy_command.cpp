@@ -16,13 +16,19 @@
 namespace cr {
 
 int fog_accuracy_command(const std::vector<std::string>& args, const PluginRegistry& registry) {
-  const FogCommandArgs a =
-      parse_fog_command_args(args, {"profile", "resolution", "frame", "threads", "samples", "warmup"});
+  ArgParser a("fog-accuracy", "cpurender fog-accuracy SCENE [options]",
+              "Froxel fog vs the per-pixel ray-marched reference on one frame: temporal grid, single frame,\n"
+              "2x resolution; mean and p95 relative luminance error and the time of each.");
+  add_fog_command_options(a);
+  a.option("frame", "N", "frame of the scene to measure", "0")
+      .option("samples", "N", "reference samples per pixel", "512")
+      .option("warmup", "N", "history frames before the temporal measurement", "14");
+  if (!a.parse(args, 1, 1)) return 0;
   const FogRun run = load_fog_run(a, registry);
-  JobSystem jobs(unsigned(a.get_int("threads", int(JobSystem::default_thread_count()), 1, 1024)));
-  const int frame = a.get_int("frame", 0, 0, 1000000);
-  const int samples = a.get_int("samples", 512, 1, 65536);
-  const int warmup = a.get_int("warmup", 14, 0, 1000);
+  JobSystem jobs(fog_command_threads(a));
+  const int frame = a.get_int("frame", 0, 1000000);
+  const int samples = a.get_int("samples", 1, 65536);
+  const int warmup = a.get_int("warmup", 0, 1000);
 
   Renderer base(*run.scene, run.description, run.profile, plugins_without_fog(registry), jobs);
   base.render_frame(frame);

@@ -14,10 +14,14 @@
 namespace cr {
 
 int fog_bench_command(const std::vector<std::string>& args, const PluginRegistry& registry) {
-  const FogCommandArgs a = parse_fog_command_args(args, {"profile", "resolution", "frames", "threads"});
+  ArgParser a("fog-bench", "cpurender fog-bench SCENE [options]",
+              "Per-pass fog times (median over frames after the first two) at 1 thread and at --threads.");
+  add_fog_command_options(a);
+  a.option("frames", "N", "frames per run (>= 3)", "10");
+  if (!a.parse(args, 1, 1)) return 0;
   const FogRun run = load_fog_run(a, registry);
-  const int frames = a.get_int("frames", 10, 3, 10000);
-  const unsigned all = unsigned(a.get_int("threads", int(JobSystem::default_thread_count()), 1, 1024));
+  const int frames = a.get_int("frames", 3, 10000);
+  const unsigned all = fog_command_threads(a);
   std::printf("fog-bench %s, %dx%d, median of %d frames\n", run.description.path.c_str(), run.profile.width,
               run.profile.height, frames - 2);
   std::printf("%-18s %12s %12s\n", "pass (ms)", "1 thread", (std::to_string(all) + " threads").c_str());

@@ -3,8 +3,9 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
-#include <unistd.h>
 
+#include "engine/cli/cli_common.h"
+#include "engine/cli/paths.h"
 #include "engine/core/error.h"
 #include "engine/output/percentile.h"
 #include "engine/scene/gltf_loader.h"
@@ -17,72 +18,28 @@ double ms_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
-std::string resolve_profile(const std::string& name_or_path) {
-  if (std::filesystem::exists(name_or_path) || name_or_path.find('/') != std::string::npos) return name_or_path;
-  char buf[4096];
-  const ssize_t n = readlink("/proc/self/exe", buf, sizeof(buf) - 1);
-  const std::string exe_dir = n > 0 ? std::filesystem::path(std::string(buf, size_t(n))).parent_path().string() : ".";
-  return exe_dir + "/profiles/" + name_or_path + ".json";
-}
-
 }  // namespace
 
-std::string FogCommandArgs::get(const std::string& key, const std::string& fallback) const {
-  auto it = options.find(key);
-  return it == options.end() ? fallback : it->second;
+void add_fog_command_options(ArgParser& p) {
+  p.option("profile", "NAME|FILE", "render profile: a name in profiles/ or a .json path", "desktop")
+      .option("resolution", "WxH", "override the profile's resolution")
+      .option("threads", "N", "worker threads (default: all cores)");
 }
 
-int FogCommandArgs::get_int(const std::string& key, int fallback, int min, int max) const {
-  return int(get_double(key, fallback, min, max));
+unsigned fog_command_threads(const ArgParser& p) {
+  return p.has("threads") ? unsigned(p.get_int("threads", 1, 1024)) : JobSystem::default_thread_count();
 }
 
-double FogCommandArgs::get_double(const std::string& key, double fallback, double min, double max) const {
-  auto it = options.find(key);
-  if (it == options.end()) return fallback;
-  char* end = nullptr;
-  const double v = std::strtod(it->second.c_str(), &end);
-  if (end == it->second.c_str() || *end != '\0' || !(v >= min && v <= max))
-    throw Error("--" + key + ": expected a number in [" + std::to_string(min) + ", " + std::to_string(max) +
-                "], found '" + it->second + "'");
-  return v;
-}
-
-FogCommandArgs parse_fog_command_args(const std::vector<std::string>& args, const std::vector<std::string>& allowed) {
-  FogCommandArgs out;
-  for (size_t i = 0; i < args.size(); ++i) {
-    const std::string& a = args[i];
-    if (a.rfind("--", 0) != 0) {
-      if (!out.scene.empty()) throw Error("unexpected argument '" + a + "' (one scene file)");
-      out.scene = a;
-      continue;
-    }
-    const std::string key = a.substr(2);
-    bool known = false;
-    for (const std::string& k : allowed) known = known || k == key;
-    if (!known) throw Error("unknown option '" + a + "'");
-    if (i + 1 >= args.size()) throw Error("option '" + a + "' needs a value");
-    out.options[key] = args[++i];
-  }
-  if (out.scene.empty()) throw Error("missing scene file (a scene with a \"fog\" section)");
-  return out;
-}
-
-FogRun load_fog_run(const FogCommandArgs& args, const PluginRegistry& registry) {
+FogRun load_fog_run(const ArgParser& args, const PluginRegistry& registry) {
   FogRun run;
   const std::vector<std::string> sections = registry.names();
-  run.profile = load_profile(resolve_profile(args.get("profile", "desktop")), sections);
-  if (args.options.count("resolution")) {
-    const std::string r = args.get("resolution", "");
-    const size_t x = r.find('x');
-    if (x == std::string::npos) throw Error("--resolution: expected WxH, found '" + r + "'");
-    run.profile.width = std::stoi(r.substr(0, x));
-    run.profile.height = std::stoi(r.substr(x + 1));
-    if (run.profile.width < 8 || run.profile.height < 8 || run.profile.width > 16384 || run.profile.height > 16384)
-      throw Error("--resolution: each side must be in [8, 16384]");
-  }
-  run.description = load_scene_description(args.scene, sections);
+  run.profile = load_profile(resolve_profile_path(args.get("profile")), sections);
+  if (args.has("resolution"))
+    std::tie(run.profile.width, run.profile.height) = parse_resolution(args.get("resolution"), "fog");
+  const std::string& scene = args.positional().at(0);
+  run.description = load_scene_description(scene, sections);
   if (!run.description.plugins.contains("fog"))
-    throw InputError(args.scene, "has no \"fog\" section: nothing to measure");
+    throw InputError(scene, "has no \"fog\" section: nothing to measure");
   run.fog_scene = parse_fog_scene(run.description.plugins.at("fog"), run.description.path);
   if (run.profile.plugins.contains("fog"))
     run.fog_profile = parse_fog_profile(run.profile.plugins.at("fog"), run.profile.path);

@@ -12,21 +12,15 @@
 #include "engine/render/plugin.h"
 #include "engine/render/renderer.h"
 #include "engine/scene/scene.h"
+#include "engine/cli/arg_parser.h"
 #include "engine/scene/scene_description.h"
 #include "fog/froxel_fog.h"
 
 namespace cr {
 
-// "--key value" options after one positional scene path. Throws Error on
-// unknown keys or a missing value.
-struct FogCommandArgs {
-  std::string scene;
-  std::map<std::string, std::string> options;
-  std::string get(const std::string& key, const std::string& fallback) const;
-  int get_int(const std::string& key, int fallback, int min, int max) const;
-  double get_double(const std::string& key, double fallback, double min, double max) const;
-};
-FogCommandArgs parse_fog_command_args(const std::vector<std::string>& args, const std::vector<std::string>& allowed);
+// The options every fog command takes: --profile, --resolution, --threads.
+void add_fog_command_options(ArgParser& p);
+unsigned fog_command_threads(const ArgParser& p);
 
 struct FogRun {
   SceneDescription description;
@@ -37,7 +31,7 @@ struct FogRun {
 };
 // Loads scene, profile (a path, or a name under <exe dir>/profiles) and glTF;
 // the scene must have a "fog" section.
-FogRun load_fog_run(const FogCommandArgs& args, const PluginRegistry& registry);
+FogRun load_fog_run(const ArgParser& args, const PluginRegistry& registry);
 
 // The registry's plugins except the fog: the engine's base image.
 std::vector<std::unique_ptr<Plugin>> plugins_without_fog(const PluginRegistry& registry);

@@ -1,6 +1,3 @@
-#include <cstdio>
-
-#include "engine/core/error.h"
 #include "fog/fog_commands.h"
 #include "fog/fog_plugin.h"
 
@@ -8,17 +5,12 @@ namespace cr {
 
 namespace {
 
-// Runs a command, turning errors into one message and exit code 1.
+// A command bound to the registry; the CLI turns its errors into one message
+// and exit code 2 like every other command's.
 PluginCommand command(const char* name, const char* summary, const PluginRegistry& registry,
                       int (*run)(const std::vector<std::string>&, const PluginRegistry&)) {
-  return PluginCommand{name, summary, [&registry, run, name](const std::vector<std::string>& args) {
-                         try {
-                           return run(args, registry);
-                         } catch (const std::exception& e) {
-                           std::fprintf(stderr, "%s: %s\n", name, e.what());
-                           return 1;
-                         }
-                       }};
+  return PluginCommand{name, summary,
+                       [&registry, run](const std::vector<std::string>& args) { return run(args, registry); }};
 }
 
 }  // namespace

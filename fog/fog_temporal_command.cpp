@@ -45,12 +45,19 @@ std::vector<glm::vec3> converged(const FogRun& run, const FrameView& view, const
 }  // namespace
 
 int fog_temporal_command(const std::vector<std::string>& args, const PluginRegistry& registry) {
-  const FogCommandArgs a = parse_fog_command_args(args, {"profile", "resolution", "frames", "threads", "speed", "turn"});
+  ArgParser a("fog-temporal", "cpurender fog-temporal SCENE [options]",
+              "Ghosting on a fast camera path and temporal noise with a static camera, with and without\n"
+              "reprojection (statistics over frames >= 8).");
+  add_fog_command_options(a);
+  a.option("frames", "N", "frames per path (>= 9)", "24")
+      .option("speed", "M", "metres the fast camera moves per frame", "1.5")
+      .option("turn", "DEG", "degrees the fast camera turns per frame", "3");
+  if (!a.parse(args, 1, 1)) return 0;
   const FogRun run = load_fog_run(a, registry);
-  JobSystem jobs(unsigned(a.get_int("threads", int(JobSystem::default_thread_count()), 1, 1024)));
-  const int frames = a.get_int("frames", 24, 9, 10000);
-  const double speed = a.get_double("speed", 1.5, 0.0, 1e4);
-  const double turn = a.get_double("turn", 3.0, -180.0, 180.0);
+  JobSystem jobs(fog_command_threads(a));
+  const int frames = a.get_int("frames", 9, 10000);
+  const double speed = a.get_double("speed", 0.0, 1e4);
+  const double turn = a.get_double("turn", -180.0, 180.0);
   const std::vector<Variant> vs = variants(run.fog_profile);
   std::printf("fog-temporal %s, %dx%d, %d frames (statistics over frames >= 8)\n", run.description.path.c_str(),
               run.profile.width, run.profile.height, frames);
