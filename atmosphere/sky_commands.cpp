@@ -219,7 +219,8 @@ const char* const kAccuracyUsage =
     "Renders a panorama (azimuth 0-360 deg from the sun, elevation 90 to -10 deg; from above the space\n"
     "altitude 0 to -90 deg) with the LUT method and the path-traced reference; prints mean and p95 relative\n"
     "luminance error (sky pixels, or from space the pixels that meet the atmosphere; then all pixels) and\n"
-    "both times, with pass/FAIL per case. Targets: mean <= 3%, p95 <= 8% on the scored pixels.";
+    "both times, with pass/FAIL per case. Targets: mean <= 3%, p95 <= 8% on the scored pixels.\n"
+    "Exit status: 0 all cases within the targets, 1 a case misses them, 2 usage or input error.";
 
 }  // namespace
 
@@ -309,7 +310,7 @@ int sky_accuracy_command(const std::vector<std::string>& args) {
     }
   }
   std::printf("%s\n", all_pass ? "all cases within the targets" : "some cases exceed the targets");
-  return 0;
+  return all_pass ? 0 : 1;  // like compare and golden: a missed target is a failed check
 }
 
 namespace {
