@@ -24,11 +24,13 @@ void fill_light_environment(const SkyFrame& f, LightEnvironment& light) {
   const glm::vec3 sun = f.sun;
   const glm::vec3 e = f.sun_illuminance;
   const double ground = f.model.bottom_radius;
-  light.sun_at = [lut, offset, sun, e, ground](const glm::vec3& world_pos) {
-    const glm::dvec3 p = glm::dvec3(world_pos) + offset;
-    const double r = glm::length(p);
-    const float mu_s = float(glm::dot(p, glm::dvec3(sun)) / r);
-    return e * lut->sun(float(r - ground), mu_s);
+  light.sun_at = [lut, offset, sun, e, ground](const glm::vec3* world_pos, glm::vec3* out, size_t n) {
+    for (size_t i = 0; i < n; ++i) {
+      const glm::dvec3 p = glm::dvec3(world_pos[i]) + offset;
+      const double r = glm::length(p);
+      const float mu_s = float(glm::dot(p, glm::dvec3(sun)) / r);
+      out[i] = e * lut->sun(float(r - ground), mu_s);
+    }
   };
 }
 

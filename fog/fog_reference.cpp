@@ -44,7 +44,7 @@ FogReferenceImage render_fog_reference(const FogSceneSettings& scene, float fog_
           const glm::vec3 world(camera.position + glm::dvec3(rel));
           glm::vec3 sun(0.0f);
           if (glm::any(glm::greaterThan(m.scattering, glm::vec3(0.0f)))) {
-            const glm::vec3 e = light.sun_at ? light.sun_at(world) : light.sun_illuminance;
+            const glm::vec3 e = sun_illuminance_at(light, world);
             sun = glm::max(e, glm::vec3(0.0f)) * shadow.visibility(world, glm::vec3(0.0f));
           }
           const float opacity = opacity_of(m.extinction * step);

@@ -27,7 +27,7 @@ void FroxelFog::lighting(const LightEnvironment& light, const ShadowMap& shadow,
   SunLightingInputs sun;
   sun.direction = light.sun_direction;
   sun.illuminance = light.sun_illuminance;
-  sun.illuminance_at = light.sun_at ? &light.sun_at : nullptr;
+  sun.light = &light;
   sun.camera_position = view_.camera.position;
   JitterInputs jitter;
   jitter.enabled = profile_.jitter;

@@ -70,7 +70,7 @@ VoxelizeStats voxelize_density(const FroxelView& view, const FogMedium& medium, 
 struct SunLightingInputs {
   glm::vec3 direction{0.0f, 1.0f, 0.0f};  // towards the sun
   glm::vec3 illuminance{0.0f};
-  const std::function<glm::vec3(const glm::vec3&)>* illuminance_at = nullptr;  // world position
+  const LightEnvironment* light = nullptr;  // per-point illuminance (sun_at) when set
   glm::dvec3 camera_position{0.0};
 };
 struct JitterInputs {

@@ -51,9 +51,13 @@ void light_froxels(const FroxelView& view, const std::vector<FogDensity>& densit
           // The sun's illuminance varies slowly (atmospheric transmittance
           // with altitude): evaluate it at the column's ends, lerp in t.
           glm::vec3 e0 = sun.illuminance, e1 = sun.illuminance;
-          if (sun.illuminance_at && *sun.illuminance_at) {
-            e0 = (*sun.illuminance_at)(glm::vec3(sun.camera_position + glm::dvec3(dir * t_first)));
-            e1 = (*sun.illuminance_at)(glm::vec3(sun.camera_position + glm::dvec3(dir * t_last)));
+          if (sun.light && sun.light->sun_at) {
+            const glm::vec3 ends[2] = {glm::vec3(sun.camera_position + glm::dvec3(dir * t_first)),
+                                       glm::vec3(sun.camera_position + glm::dvec3(dir * t_last))};
+            glm::vec3 e[2];
+            sun.light->sun_at(ends, e, 2);
+            e0 = e[0];
+            e1 = e[1];
           }
           const glm::vec3 de = nz > 1 ? (e1 - e0) / (t_last - t_first) : glm::vec3(0.0f);
           for (int k = 0; k < n; ++k) {

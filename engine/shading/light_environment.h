@@ -3,6 +3,7 @@
 // The engine fills it from the scene file; a plugin (the atmosphere) may
 // overwrite it in a pass that writes the "light_environment" resource.
 #include <array>
+#include <cstddef>
 #include <functional>
 
 #include <glm/glm.hpp>
@@ -13,11 +14,21 @@ struct LightEnvironment {
   glm::vec3 sun_direction{0.0f, 1.0f, 0.0f};  // unit, world space, towards the sun
   glm::vec3 sun_illuminance{0.0f};            // RGB lux on a surface facing the sun
   // Optional per-point sun illuminance (e.g. attenuated by the atmosphere's
-  // transmittance at the point's altitude). When empty, sun_illuminance is used.
-  std::function<glm::vec3(const glm::vec3& world_pos)> sun_at;
+  // transmittance at the point's altitude): out[i] for world_pos[i], i < n.
+  // Called with many points at once so that shading pays one indirect call per
+  // batch, not per pixel. When empty, sun_illuminance is used.
+  std::function<void(const glm::vec3* world_pos, glm::vec3* out, size_t n)> sun_at;
   // Incoming ambient radiance as real SH L2 coefficients (cd/m^2):
   // L(w) = sum_i ambient_sh[i] * Y_i(w), order Y00, Y1-1, Y10, Y11, Y2-2, Y2-1, Y20, Y21, Y22.
   std::array<glm::vec3, 9> ambient_sh{};
 };
+
+// The sun's illuminance at one world point: sun_at when set, else sun_illuminance.
+inline glm::vec3 sun_illuminance_at(const LightEnvironment& light, const glm::vec3& world_pos) {
+  if (!light.sun_at) return light.sun_illuminance;
+  glm::vec3 e;
+  light.sun_at(&world_pos, &e, 1);
+  return e;
+}
 
 }  // namespace cr

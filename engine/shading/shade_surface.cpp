@@ -47,7 +47,7 @@ glm::vec4 SurfaceShader::shade(const Material& material, const SurfaceSample& su
   const glm::vec3& l = sun_direction_;
   const float n_dot_l = glm::dot(n, l);
   if (n_dot_l > 0.0f) {
-    const glm::vec3 sun = light.sun_at ? light.sun_at(surface.position) : light.sun_illuminance;
+    const glm::vec3 sun = sun_illuminance_at(light, surface.position);
     if (sun != glm::vec3(0.0f)) {
       // The shadow lookup uses the interpolated normal: its bias models the
       // geometry in the depth map, which the normal map does not change.

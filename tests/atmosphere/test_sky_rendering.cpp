@@ -136,7 +136,7 @@ TEST_CASE("sky colours, sun disk and aerial perspective are physically sensible"
     LightEnvironment dark;
     fill_light_environment(night, dark);
     CHECK(dark.sun_illuminance == glm::vec3(0.0f));
-    CHECK(dark.sun_at(glm::vec3(100.0f, 0.0f, 50.0f)) == glm::vec3(0.0f));
+    CHECK(sun_illuminance_at(dark, glm::vec3(100.0f, 0.0f, 50.0f)) == glm::vec3(0.0f));
     CHECK(luminance(sky_radiance(night, glm::vec3(0, 1, 0), true)) < 1e-3f * 110000.0f);
   }
   SUBCASE("lighting: sun_at follows altitude, ambient SH is the sky's mean radiance") {
@@ -144,8 +144,8 @@ TEST_CASE("sky colours, sun disk and aerial perspective are physically sensible"
     const SkyFrame f = frame_of(s, p, cam);
     LightEnvironment light;
     fill_light_environment(f, light);
-    const glm::vec3 ground = light.sun_at(glm::vec3(0.0f));
-    const glm::vec3 peak = light.sun_at(glm::vec3(0.0f, 8000.0f, 0.0f));
+    const glm::vec3 ground = sun_illuminance_at(light, glm::vec3(0.0f));
+    const glm::vec3 peak = sun_illuminance_at(light, glm::vec3(0.0f, 8000.0f, 0.0f));
     CHECK(peak.z > ground.z);  // less air above a mountain top
     CHECK(ground.x == doctest::Approx(light.sun_illuminance.x).epsilon(0.01));
     // Y00 * c00 is the sphere-mean radiance: compare with a direct average of the sky.

@@ -78,7 +78,9 @@ TEST_CASE("shade: sun term is BRDF * n.l * E, scaled by shadow visibility") {
 
   // sun_at overrides the constant illuminance.
   LightEnvironment attenuated = light;
-  attenuated.sun_at = [](const glm::vec3&) { return glm::vec3(5e4f, 4.5e4f, 4e4f); };
+  attenuated.sun_at = [](const glm::vec3*, glm::vec3* out, size_t n) {
+    for (size_t i = 0; i < n; ++i) out[i] = glm::vec3(5e4f, 4.5e4f, 4e4f);
+  };
   const glm::vec4 half = shade_surface({&scene, &attenuated, nullptr, in.camera_position}, m, s);
   for (int k = 0; k < 3; ++k) CHECK(half[k] == doctest::Approx(0.5f * expected[k]).epsilon(1e-5));
 
