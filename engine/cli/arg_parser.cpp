@@ -42,7 +42,7 @@ bool ArgParser::parse(const std::vector<std::string>& args, size_t min_positiona
       if (it == specs_.end()) throw UsageError(command_ + ": unknown option --" + name);
       if (it->second.is_flag) {
         if (inline_value) throw UsageError(command_ + ": --" + name + " takes no value");
-        values_[name] = "1";
+        values_.insert_or_assign(name, std::string("1"));
       } else {
         if (!inline_value) {
           if (i + 1 >= args.size()) throw UsageError(command_ + ": --" + name + " needs a value (" + it->second.metavar + ")");

@@ -225,24 +225,37 @@ const FrameRecord& Renderer::render_frame(int frame) {
   const ShadingInputs shading{&scene_, &light_, &shadow_, cam.position};
   // Built by the passes that shade: the light and shadow passes have run then.
   std::optional<SurfaceShader> shader;
-  auto shade_fragment = [this, &geo, &shader](uint32_t id, const Barycentrics& bary) {
+  // The surface a visibility-buffer sample sees, and its material.
+  auto surface_of = [this, &geo](uint32_t id, const Barycentrics& bary, const Material*& material) {
     const TriangleRef r = geo.view.ref(id);
     const Draw& d = scene_.draws[r.draw_index];
     const Primitive& prim = scene_.primitive(d);
-    const Material& m = material_of(scene_, prim);
-    const SurfaceSample s = interpolate_surface(prim, d, r.triangle_index, bary, r.front_facing, needs_tangent(m));
-    return shader->shade(m, s);
+    material = &material_of(scene_, prim);
+    return interpolate_surface(prim, d, r.triangle_index, bary, r.front_facing, needs_tangent(*material));
+  };
+  auto shade_fragment = [&surface_of, &shader](uint32_t id, const Barycentrics& bary) {
+    const Material* m = nullptr;
+    const SurfaceSample s = surface_of(id, bary, m);
+    return shader->shade(*m, s);
   };
 
   graph.add_pass("shade", [](FrameGraph::Builder& b) {
     b.read("visibility").read("shadow_map").read("light_environment").write("hdr_color");
-  }, [this, &geo, &shade_fragment, &shader, &shading, w, h] {
+  }, [this, &geo, &surface_of, &shader, &shading, w, h] {
     shader.emplace(shading);
     const std::vector<uint32_t>& ids = geo.view.visibility().triangle;
     // Without a sky plugin the background is the ambient radiance: a flat sky.
     const glm::vec3 background = description_.ambient;
     std::vector<uint64_t> shaded_rows(size_t(h), 0);
     jobs_.parallel_for("shade", size_t(h), 4, [&](size_t y0, size_t y1) {
+      // Pixels of a row are shaded in batches; `where` maps a batch entry to its pixel.
+      ShadingBatch batch;
+      size_t where[ShadingBatch::kCapacity];
+      auto flush = [&] {
+        shader->shade_batch(batch);
+        for (int k = 0; k < batch.count; ++k) buffers_.color[where[k]] = batch.radiance(k);
+        batch.clear();
+      };
       for (size_t y = y0; y < y1; ++y) {
         uint64_t n = 0;
         for (int x = 0; x < w; ++x) {
@@ -252,11 +265,16 @@ const FrameRecord& Renderer::render_frame(int frame) {
             continue;
           }
           const Barycentrics bary = geo.view.barycentrics(ids[i], float(x) + 0.5f, float(y) + 0.5f);
-          buffers_.color[i] = glm::vec3(shade_fragment(ids[i], bary));
+          const Material* m = nullptr;
+          const SurfaceSample s = surface_of(ids[i], bary, m);
+          where[batch.count] = i;
+          shader->add(batch, *m, s);
+          if (batch.full()) flush();
           ++n;
         }
         shaded_rows[y] = n;
       }
+      if (batch.count > 0) flush();
     });
     uint64_t total = 0;
     for (uint64_t n : shaded_rows) total += n;  // fixed-order reduction

@@ -10,6 +10,9 @@
 // metallic); the diffuse part is (1 - metallic) (1 - F_dielectric) baseColor/pi,
 // which equals the often-quoted (1 - F) mix(baseColor, 0, metallic)/pi at
 // metallic 0 and 1 and follows the specification in between.
+#include <algorithm>
+#include <cmath>
+
 #include <glm/glm.hpp>
 
 namespace cr {
@@ -28,10 +31,64 @@ struct BrdfParams {
   float roughness = 1.0f;      // perceptual; clamped to [kMinRoughness, 1]
 };
 
+inline constexpr float kBrdfPi = 3.14159265358979f;
+
+// Clamp that maps NaN to the lower bound (std::clamp passes NaN through).
+inline float clamp_nan_safe(float x, float lo, float hi) { return x > lo ? (x < hi ? x : hi) : lo; }
+
+// The functions below are inline and free of branches the compiler cannot
+// turn into selects, so batched shading loops over them vectorise.
+
 // Trowbridge-Reitz/GGX normal distribution (alpha = roughness^2).
-float ggx_distribution(float n_dot_h, float alpha);
+inline float ggx_distribution(float n_dot_h, float alpha) {
+  const float a2 = alpha * alpha;
+  const float d = n_dot_h * n_dot_h * (a2 - 1.0f) + 1.0f;
+  const float value = a2 / (kBrdfPi * d * d);
+  return n_dot_h > 0.0f ? value : 0.0f;
+}
+
 // Height-correlated Smith visibility Vis = G / (4 |N.L| |N.V|).
-float smith_visibility(float n_dot_l, float n_dot_v, float alpha);
+inline float smith_visibility(float n_dot_l, float n_dot_v, float alpha) {
+  const float a2 = alpha * alpha;
+  const float nl = std::abs(n_dot_l);
+  const float nv = std::abs(n_dot_v);
+  const float denom = nv * std::sqrt(a2 + (1.0f - a2) * nl * nl) + nl * std::sqrt(a2 + (1.0f - a2) * nv * nv);
+  return denom > 0.0f ? 0.5f / denom : 0.0f;
+}
+
+// Schlick's weight (1 - |V.H|)^5.
+inline float fresnel_weight(float v_dot_h) {
+  const float w = 1.0f - std::min(std::abs(v_dot_h), 1.0f);
+  const float w2 = w * w;
+  return w2 * w2 * w;
+}
+
+// The scalar parts of the BRDF for one light; per channel
+// f = diffuse * baseColor + (f0 + (1 - f0) * fresnel_w) * specular.
+// All zero when l or v lies below the surface. Inputs: cosines of unit
+// vectors, metallic and perceptual roughness as in BrdfParams.
+struct BrdfTerms {
+  float diffuse = 0.0f;
+  float specular = 0.0f;
+  float fresnel_w = 0.0f;
+};
+inline BrdfTerms brdf_terms(float n_dot_l, float n_dot_v, float n_dot_h, float v_dot_h, float metallic,
+                            float roughness) {
+  const bool above = n_dot_l > 0.0f && n_dot_v > 0.0f;
+  const float m = clamp_nan_safe(metallic, 0.0f, 1.0f);
+  const float r = clamp_nan_safe(roughness, kMinRoughness, 1.0f);
+  const float alpha = r * r;
+  const float w = fresnel_weight(v_dot_h);
+  // Heaviside terms chi+(H.L) chi+(H.V): H.L == H.V for the half vector.
+  const float specular = ggx_distribution(n_dot_h, alpha) * smith_visibility(n_dot_l, n_dot_v, alpha);
+  const float dielectric_fresnel = kDielectricF0 + (1.0f - kDielectricF0) * w;
+  BrdfTerms t;
+  t.diffuse = above ? (1.0f - m) * (1.0f - dielectric_fresnel) / kBrdfPi : 0.0f;
+  t.specular = above && v_dot_h > 0.0f ? specular : 0.0f;
+  t.fresnel_w = w;
+  return t;
+}
+
 // Schlick's Fresnel with f90 = 1.
 glm::vec3 schlick_fresnel(const glm::vec3& f0, float v_dot_h);
 // f0 = mix(0.04, baseColor, metallic).

@@ -9,6 +9,8 @@
 
 #include <glm/glm.hpp>
 
+#include "engine/core/exp2_poly.h"
+
 namespace cr {
 
 struct EnvironmentBrdf {
@@ -20,7 +22,7 @@ struct EnvironmentBrdf {
 // roughness: perceptual, in [0, 1]; n_dot_v: cosine of the view angle.
 inline EnvironmentBrdf environment_brdf(float roughness, float n_dot_v) {
   const glm::vec4 r = roughness * glm::vec4(-1.0f, -0.0275f, -0.572f, 0.022f) + glm::vec4(1.0f, 0.0425f, 1.04f, -0.04f);
-  const float a004 = std::min(r.x * r.x, std::exp2(-9.28f * std::max(n_dot_v, 0.0f))) * r.x + r.y;
+  const float a004 = std::min(r.x * r.x, exp2_poly(-9.28f * std::max(n_dot_v, 0.0f))) * r.x + r.y;
   return {-1.04f * a004 + r.z, 1.04f * a004 + r.w};
 }
 

@@ -37,19 +37,6 @@ void gauss_legendre(int n, std::vector<double>& x, std::vector<double>& w) {
 
 }  // namespace
 
-std::array<float, 9> sh_basis(const glm::vec3& d) {
-  const float x = d.x, y = d.y, z = d.z;
-  return {0.282094792f,
-          0.488602512f * y,
-          0.488602512f * z,
-          0.488602512f * x,
-          1.092548431f * x * y,
-          1.092548431f * y * z,
-          0.315391565f * (3.0f * z * z - 1.0f),
-          1.092548431f * x * z,
-          0.546274215f * (x * x - y * y)};
-}
-
 glm::vec3 sh_radiance(const ShCoefficients& c, const glm::vec3& d) {
   const std::array<float, 9> y = sh_basis(d);
   glm::vec3 sum(0.0f);

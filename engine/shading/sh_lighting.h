@@ -17,8 +17,20 @@ namespace cr {
 
 using ShCoefficients = std::array<glm::vec3, 9>;
 
-// The nine basis functions at unit direction d.
-std::array<float, 9> sh_basis(const glm::vec3& d);
+// The nine basis functions at unit direction d (inline: batched shading
+// loops evaluate it per lane).
+inline std::array<float, 9> sh_basis(const glm::vec3& d) {
+  const float x = d.x, y = d.y, z = d.z;
+  return {0.282094792f,
+          0.488602512f * y,
+          0.488602512f * z,
+          0.488602512f * x,
+          1.092548431f * x * y,
+          1.092548431f * y * z,
+          0.315391565f * (3.0f * z * z - 1.0f),
+          1.092548431f * x * z,
+          0.546274215f * (x * x - y * y)};
+}
 // Radiance reconstructed in direction d: sum_i c_i Y_i(d) (may ring below 0).
 glm::vec3 sh_radiance(const ShCoefficients& c, const glm::vec3& d);
 // Irradiance on a surface with unit normal n: sum_l A_l sum_m c_lm Y_lm(n).
@@ -34,6 +46,10 @@ class ShLighting {
   glm::vec3 irradiance(const glm::vec3& n) const {
     return constant_ ? irradiance_[0] * kY00 : evaluate(irradiance_, n);
   }
+  // The coefficients radiance() and irradiance() sum (c_0 Y_0 first, then
+  // the others in order), for batched evaluation.
+  const ShCoefficients& radiance_coefficients() const { return radiance_; }
+  const ShCoefficients& irradiance_coefficients() const { return irradiance_; }
 
  private:
   static constexpr float kY00 = 0.282094792f;

@@ -1,12 +1,12 @@
 #include "engine/shading/shade_surface.h"
 
+#include <cfloat>
 #include <cmath>
 
 #include "engine/shading/brdf.h"
 #include "engine/shading/environment_brdf.h"
 #include "engine/shading/material_eval.h"
 #include "engine/shading/safe_normalize.h"
-#include "engine/shading/sh_lighting.h"
 
 namespace cr {
 namespace {
@@ -17,8 +17,107 @@ constexpr float kPi = 3.14159265358979f;
 // far enough to be seen (a cheap form of the usual "visible normal" fix).
 constexpr float kMinNdotV = 1e-3f;
 
-glm::vec3 finite_or_zero(const glm::vec3& c) {
-  return {std::isfinite(c.x) ? c.x : 0.0f, std::isfinite(c.y) ? c.y : 0.0f, std::isfinite(c.z) ? c.z : 0.0f};
+// Lengths that normalise safely (safe_normalize.h's rule, as a select).
+inline bool usable_length(float len) { return len > 1e-20f && len <= FLT_MAX; }
+inline float finite_or_zero(float x) { return std::abs(x) <= FLT_MAX ? x : 0.0f; }
+
+// Sum of SH coefficients times the basis at d, in ShLighting's order.
+inline void sh_sum(const ShCoefficients& c, float dx, float dy, float dz, float& r, float& g, float& b) {
+  const std::array<float, 9> y = sh_basis(glm::vec3(dx, dy, dz));
+  r = c[0].r * y[0];
+  g = c[0].g * y[0];
+  b = c[0].b * y[0];
+  for (size_t k = 1; k < 9; ++k) {
+    r += c[k].r * y[k];
+    g += c[k].g * y[k];
+    b += c[k].b * y[k];
+  }
+}
+
+// View vectors and the normals bent towards the viewer (kMinNdotV); n.l.
+void view_and_normals(ShadingBatch& s, glm::dvec3 camera,
+                                                                         glm::vec3 l, float* vx, float* vy,
+                                                                         float* vz, float* n_dot_l) {
+  for (int i = 0; i < s.count; ++i) {
+    const glm::vec3 g = s.interpolated_normal[i];
+    const float dx = float(camera.x - double(s.position[i].x));
+    const float dy = float(camera.y - double(s.position[i].y));
+    const float dz = float(camera.z - double(s.position[i].z));
+    const float len = std::sqrt(dx * dx + dy * dy + dz * dz);
+    const bool ok = usable_length(len);
+    const float x = ok ? dx / len : g.x, y = ok ? dy / len : g.y, z = ok ? dz / len : g.z;
+    float nx = s.nx[i], ny = s.ny[i], nz = s.nz[i];
+    const float n_dot_v = nx * x + ny * y + nz * z;
+    const float push = kMinNdotV - n_dot_v;
+    const float bx = nx + x * push, by = ny + y * push, bz = nz + z * push;
+    const float blen = std::sqrt(bx * bx + by * by + bz * bz);
+    const bool bok = usable_length(blen);
+    const bool bend = !(n_dot_v >= kMinNdotV);
+    nx = bend ? (bok ? bx / blen : x) : nx;
+    ny = bend ? (bok ? by / blen : y) : ny;
+    nz = bend ? (bok ? bz / blen : z) : nz;
+    s.nx[i] = nx;
+    s.ny[i] = ny;
+    s.nz[i] = nz;
+    vx[i] = x;
+    vy[i] = y;
+    vz[i] = z;
+    n_dot_l[i] = nx * l.x + ny * l.y + nz * l.z;
+  }
+}
+
+struct LightingConstants {
+  glm::vec3 l;
+  const ShCoefficients* radiance;
+  const ShCoefficients* irradiance;
+};
+
+// The sun through the BRDF plus the SH ambient and emission, per lane.
+void light_points(ShadingBatch& s, const LightingConstants& c,
+                                                                     const float* vx, const float* vy,
+                                                                     const float* vz, const float* n_dot_l,
+                                                                     const float* sun_r, const float* sun_g,
+                                                                     const float* sun_b) {
+  const glm::vec3 l = c.l;
+  for (int i = 0; i < s.count; ++i) {
+    const float nx = s.nx[i], ny = s.ny[i], nz = s.nz[i];
+    const float ndl = n_dot_l[i];
+    const float ndv = nx * vx[i] + ny * vy[i] + nz * vz[i];
+    const float metallic = s.metallic[i];
+    const float m = clamp_nan_safe(metallic, 0.0f, 1.0f);
+    const float br = s.base_r[i], bg = s.base_g[i], bb = s.base_b[i];
+    const float f0r = kDielectricF0 + (br - kDielectricF0) * m;
+    const float f0g = kDielectricF0 + (bg - kDielectricF0) * m;
+    const float f0b = kDielectricF0 + (bb - kDielectricF0) * m;
+
+    // Direct sun (sun_* already hold E_sun * shadow visibility, 0 when unlit).
+    const float hx = l.x + vx[i], hy = l.y + vy[i], hz = l.z + vz[i];
+    const float hlen = std::sqrt(hx * hx + hy * hy + hz * hz);
+    const bool lit = ndl > 0.0f && ndv > 0.0f && hlen > 0.0f;
+    const float inv_h = hlen > 0.0f ? 1.0f / hlen : 0.0f;
+    const float ndh = (nx * hx + ny * hy + nz * hz) * inv_h;
+    const float vdh = (vx[i] * hx + vy[i] * hy + vz[i] * hz) * inv_h;
+    const BrdfTerms t = brdf_terms(ndl, ndv, ndh, vdh, metallic, s.roughness[i]);
+    const float w = lit ? ndl : 0.0f;
+    float r = s.emissive_r[i] + (t.diffuse * br + (f0r + (1.0f - f0r) * t.fresnel_w) * t.specular) * w * sun_r[i];
+    float g = s.emissive_g[i] + (t.diffuse * bg + (f0g + (1.0f - f0g) * t.fresnel_w) * t.specular) * w * sun_g[i];
+    float b = s.emissive_b[i] + (t.diffuse * bb + (f0b + (1.0f - f0b) * t.fresnel_w) * t.specular) * w * sun_b[i];
+
+    // Ambient: SH irradiance (diffuse) and SH radiance in the mirror direction.
+    const EnvironmentBrdf env = environment_brdf(std::max(s.roughness[i], kMinRoughness), std::max(ndv, kMinNdotV));
+    float er, eg, eb, lr, lg, lb;
+    sh_sum(*c.irradiance, nx, ny, nz, er, eg, eb);
+    const float two_ndv = 2.0f * ndv;
+    sh_sum(*c.radiance, two_ndv * nx - vx[i], two_ndv * ny - vy[i], two_ndv * nz - vz[i], lr, lg, lb);
+    const float diffuse = (1.0f - metallic) * (1.0f - (kDielectricF0 * env.a + env.b)) / kPi;
+    const float ao = s.occlusion[i];
+    r += (std::max(er, 0.0f) * diffuse * br + std::max(lr, 0.0f) * (f0r * env.a + env.b)) * ao;
+    g += (std::max(eg, 0.0f) * diffuse * bg + std::max(lg, 0.0f) * (f0g * env.a + env.b)) * ao;
+    b += (std::max(eb, 0.0f) * diffuse * bb + std::max(lb, 0.0f) * (f0b * env.a + env.b)) * ao;
+    s.out_r[i] = finite_or_zero(r);
+    s.out_g[i] = finite_or_zero(g);
+    s.out_b[i] = finite_or_zero(b);
+  }
 }
 
 }  // namespace
@@ -31,41 +130,54 @@ SurfaceShader::SurfaceShader(const ShadingInputs& in)
       sun_direction_(normalize_or(in.light->sun_direction, glm::vec3(0.0f, 1.0f, 0.0f))),
       ambient_(in.light->ambient_sh) {}
 
-glm::vec4 SurfaceShader::shade(const Material& material, const SurfaceSample& surface) const {
+void SurfaceShader::add(ShadingBatch& batch, const Material& material, const SurfaceSample& surface) const {
   const MaterialSample m = evaluate_material(*scene_, material, surface);
-  const glm::vec3 interpolated_normal = normalize_or(surface.normal, glm::vec3(0.0f, 1.0f, 0.0f));
-  const glm::vec3 v = normalize_or(glm::vec3(camera_position_ - glm::dvec3(surface.position)), interpolated_normal);
-  glm::vec3 n = m.normal;
-  const float n_dot_v_raw = glm::dot(n, v);
-  if (!(n_dot_v_raw >= kMinNdotV)) n = normalize_or(n + v * (kMinNdotV - n_dot_v_raw), v);
-  const float n_dot_v = std::max(glm::dot(n, v), kMinNdotV);
+  batch.add(surface, m, material.alpha_mode == AlphaMode::Blend ? m.alpha : 1.0f);
+}
 
-  const BrdfParams brdf{m.base_color, m.metallic, m.roughness};
-  const LightEnvironment& light = *light_;
-  glm::vec3 radiance = m.emissive;
+void SurfaceShader::shade_batch(ShadingBatch& batch) const {
+  constexpr int kN = ShadingBatch::kCapacity;
+  const int n = batch.count;
+  float vx[kN], vy[kN], vz[kN], n_dot_l[kN];
+  view_and_normals(batch, camera_position_, sun_direction_, vx, vy, vz, n_dot_l);
 
-  const glm::vec3& l = sun_direction_;
-  const float n_dot_l = glm::dot(n, l);
-  if (n_dot_l > 0.0f) {
-    const glm::vec3 sun = sun_illuminance_at(light, surface.position);
-    if (sun != glm::vec3(0.0f)) {
-      // The shadow lookup uses the interpolated normal: its bias models the
-      // geometry in the depth map, which the normal map does not change.
-      const float visibility = shadow_ ? shadow_->visibility(surface.position, interpolated_normal) : 1.0f;
-      if (visibility > 0.0f) radiance += evaluate_brdf(brdf, n, v, l) * (n_dot_l * visibility) * sun;
+  // The sun's illuminance times its visibility, fetched for lit points only.
+  float sun_r[kN], sun_g[kN], sun_b[kN];
+  int lit[kN];
+  glm::vec3 lit_position[kN], lit_sun[kN];
+  int lit_count = 0;
+  for (int i = 0; i < n; ++i) {
+    sun_r[i] = sun_g[i] = sun_b[i] = 0.0f;
+    if (n_dot_l[i] > 0.0f) {
+      lit_position[lit_count] = batch.position[i];
+      lit[lit_count++] = i;
     }
   }
+  if (light_->sun_at)
+    light_->sun_at(lit_position, lit_sun, size_t(lit_count));
+  else
+    for (int k = 0; k < lit_count; ++k) lit_sun[k] = light_->sun_illuminance;
+  for (int k = 0; k < lit_count; ++k) {
+    const int i = lit[k];
+    glm::vec3 e = lit_sun[k];
+    // The shadow lookup uses the interpolated normal: its bias models the
+    // geometry in the depth map, which the normal map does not change.
+    if (shadow_ && e != glm::vec3(0.0f)) e *= shadow_->visibility(batch.position[i], batch.interpolated_normal[i]);
+    sun_r[i] = e.r;
+    sun_g[i] = e.g;
+    sun_b[i] = e.b;
+  }
 
-  const EnvironmentBrdf env = environment_brdf(std::max(m.roughness, kMinRoughness), n_dot_v);
-  const glm::vec3 irradiance = glm::max(ambient_.irradiance(n), glm::vec3(0.0f));
-  const glm::vec3 reflected = glm::max(ambient_.radiance(glm::reflect(-v, n)), glm::vec3(0.0f));
-  const glm::vec3 diffuse =
-      irradiance * ((1.0f - m.metallic) * (1.0f - env.albedo(glm::vec3(kDielectricF0)).x) / kPi) * m.base_color;
-  const glm::vec3 specular = reflected * env.albedo(specular_f0(brdf));
-  radiance += (diffuse + specular) * m.occlusion;
+  const LightingConstants constants{sun_direction_, &ambient_.radiance_coefficients(),
+                                    &ambient_.irradiance_coefficients()};
+  light_points(batch, constants, vx, vy, vz, n_dot_l, sun_r, sun_g, sun_b);
+}
 
-  const float alpha = material.alpha_mode == AlphaMode::Blend ? m.alpha : 1.0f;
-  return {finite_or_zero(radiance), alpha};
+glm::vec4 SurfaceShader::shade(const Material& material, const SurfaceSample& surface) const {
+  ShadingBatch batch;
+  add(batch, material, surface);
+  shade_batch(batch);
+  return {batch.radiance(0), batch.alpha[0]};
 }
 
 glm::vec4 shade_surface(const ShadingInputs& in, const Material& material, const SurfaceSample& surface) {

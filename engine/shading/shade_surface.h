@@ -7,6 +7,7 @@
 #include "engine/scene/scene.h"
 #include "engine/shading/light_environment.h"
 #include "engine/shading/sh_lighting.h"
+#include "engine/shading/shading_batch.h"
 #include "engine/shading/shadow_map.h"
 #include "engine/shading/surface.h"
 
@@ -34,12 +35,19 @@ glm::vec4 shade_surface(const ShadingInputs& in, const Material& material, const
 
 // shade_surface for many points of one frame, with what does not depend on
 // the point (sun direction, SH band factors, shadow map presence) prepared
-// once. Same results as shade_surface. Holds pointers into `in`'s scene,
-// light and shadow map, which must outlive it and not change meanwhile.
+// once, and points lit in batches (vectorised loops, one sun_at call per
+// batch). Same results as shade_surface for every point of a batch. Holds
+// pointers into `in`'s scene, light and shadow map, which must outlive it and
+// not change meanwhile.
 class SurfaceShader {
  public:
   explicit SurfaceShader(const ShadingInputs& in);
   glm::vec4 shade(const Material& material, const SurfaceSample& surface) const;
+  // Evaluates the material at the surface point and appends it to the batch
+  // (which must not be full).
+  void add(ShadingBatch& batch, const Material& material, const SurfaceSample& surface) const;
+  // Lights every point of the batch: radiance in out_r/g/b, opacity in alpha.
+  void shade_batch(ShadingBatch& batch) const;
 
  private:
   const Scene* scene_;

@@ -1,0 +1,36 @@
+#pragma once
+// Surface points shaded together, stored as structure-of-arrays so that the
+// lighting loops run over contiguous floats the compiler vectorises (one
+// lane per point). Filled point by point after the (scalar) material
+// evaluation; SurfaceShader::shade_batch lights all points at once.
+#include <glm/glm.hpp>
+
+#include "engine/shading/material_eval.h"
+#include "engine/shading/surface.h"
+
+namespace cr {
+
+struct ShadingBatch {
+  static constexpr int kCapacity = 64;
+
+  int count = 0;
+  // Per point (AoS where a scalar consumer takes a vec3: sun_at, the shadow map).
+  glm::vec3 position[kCapacity];             // world space
+  glm::vec3 interpolated_normal[kCapacity];  // unit, before the normal map: drives the shadow bias
+  float nx[kCapacity], ny[kCapacity], nz[kCapacity];  // shading normal (normal map applied), unit
+  float base_r[kCapacity], base_g[kCapacity], base_b[kCapacity];
+  float metallic[kCapacity], roughness[kCapacity], occlusion[kCapacity];
+  float emissive_r[kCapacity], emissive_g[kCapacity], emissive_b[kCapacity];
+  float alpha[kCapacity];
+  // Results of SurfaceShader::shade_batch: radiance towards the camera.
+  float out_r[kCapacity], out_g[kCapacity], out_b[kCapacity];
+
+  bool full() const { return count == kCapacity; }
+  void clear() { count = 0; }
+  // Appends one point (the caller checks full() first); `alpha` is the opacity
+  // used for blending (1 for OPAQUE and MASK).
+  void add(const SurfaceSample& surface, const MaterialSample& m, float opacity);
+  glm::vec3 radiance(int i) const { return {out_r[i], out_g[i], out_b[i]}; }
+};
+
+}  // namespace cr
