@@ -202,19 +202,27 @@ const FrameRecord& Renderer::render_frame(int frame) {
     // Depth and distance along the ray, from the reversed-Z depth alone
     // (view depth = znear / z), so passes that only need depth (fog) can run
     // before shading.
+    // The ray through pixel (x, y) is forward + sx * right + sy * up, so
+    // distance = view depth * sqrt(1 + sx^2 + sy^2): sx per column, sy per row.
     const std::vector<float>& depth = geo.view.visibility().depth;
+    const float t = std::tan(0.5f * cam.vfov_rad);
+    std::vector<float> sx2(static_cast<size_t>(w));
+    for (int x = 0; x < w; ++x) {
+      const float sx = (2.0f * (float(x) + 0.5f) / float(w) - 1.0f) * t * cam.aspect;
+      sx2[size_t(x)] = 1.0f + sx * sx;
+    }
     jobs_.parallel_for("depth", size_t(h), 8, [&](size_t y0, size_t y1) {
-      for (size_t y = y0; y < y1; ++y)
+      for (size_t y = y0; y < y1; ++y) {
+        const float sy = (1.0f - 2.0f * (float(y) + 0.5f) / float(h)) * t;
+        const float sy2 = sy * sy;
         for (int x = 0; x < w; ++x) {
           const size_t i = y * size_t(w) + size_t(x);
-          buffers_.depth[i] = depth[i];
-          if (depth[i] <= 0.0f) {
-            buffers_.distance[i] = std::numeric_limits<float>::infinity();
-            continue;
-          }
-          const glm::vec3 dir = cam.ray_direction(float(x) + 0.5f, float(y) + 0.5f, w, h);
-          buffers_.distance[i] = cam.znear / depth[i] / glm::dot(dir, cam.forward);
+          const float d = depth[i];
+          buffers_.depth[i] = d;
+          const float distance = cam.znear / d * std::sqrt(sx2[size_t(x)] + sy2);
+          buffers_.distance[i] = d > 0.0f ? distance : std::numeric_limits<float>::infinity();
         }
+      }
     });
   });
 
@@ -225,23 +233,22 @@ const FrameRecord& Renderer::render_frame(int frame) {
   const ShadingInputs shading{&scene_, &light_, &shadow_, cam.position};
   // Built by the passes that shade: the light and shadow passes have run then.
   std::optional<SurfaceShader> shader;
-  // The surface a visibility-buffer sample sees, and its material.
-  auto surface_of = [this, &geo](uint32_t id, const Barycentrics& bary, const Material*& material) {
+  // The triangle a visibility-buffer id names, in world space, and its material.
+  auto triangle_of = [this, &geo](uint32_t id, const Material*& material) {
     const TriangleRef r = geo.view.ref(id);
     const Draw& d = scene_.draws[r.draw_index];
     const Primitive& prim = scene_.primitive(d);
     material = &material_of(scene_, prim);
-    return interpolate_surface(prim, d, r.triangle_index, bary, r.front_facing, needs_tangent(*material));
+    return TriangleSurface(prim, d, r.triangle_index, r.front_facing, needs_tangent(*material));
   };
-  auto shade_fragment = [&surface_of, &shader](uint32_t id, const Barycentrics& bary) {
+  auto shade_fragment = [&triangle_of, &shader](uint32_t id, const Barycentrics& bary) {
     const Material* m = nullptr;
-    const SurfaceSample s = surface_of(id, bary, m);
-    return shader->shade(*m, s);
+    return shader->shade(*m, triangle_of(id, m).at(bary));
   };
 
   graph.add_pass("shade", [](FrameGraph::Builder& b) {
     b.read("visibility").read("shadow_map").read("light_environment").write("hdr_color");
-  }, [this, &geo, &surface_of, &shader, &shading, w, h] {
+  }, [this, &geo, &triangle_of, &shader, &shading, w, h] {
     shader.emplace(shading);
     const std::vector<uint32_t>& ids = geo.view.visibility().triangle;
     // Without a sky plugin the background is the ambient radiance: a flat sky.
@@ -256,6 +263,10 @@ const FrameRecord& Renderer::render_frame(int frame) {
         for (int k = 0; k < batch.count; ++k) buffers_.color[where[k]] = batch.radiance(k);
         batch.clear();
       };
+      // Neighbouring pixels mostly see the same triangle: set it up once.
+      uint32_t current_id = kNoTriangle;
+      std::optional<TriangleSurface> triangle;
+      const Material* material = nullptr;
       for (size_t y = y0; y < y1; ++y) {
         uint64_t n = 0;
         for (int x = 0; x < w; ++x) {
@@ -264,9 +275,13 @@ const FrameRecord& Renderer::render_frame(int frame) {
             buffers_.color[i] = background;
             continue;
           }
+          if (ids[i] != current_id) {
+            triangle.emplace(triangle_of(ids[i], material));
+            current_id = ids[i];
+          }
           const Barycentrics bary = geo.view.barycentrics(ids[i], float(x) + 0.5f, float(y) + 0.5f);
-          const Material* m = nullptr;
-          const SurfaceSample s = surface_of(ids[i], bary, m);
+          const SurfaceSample s = triangle->at(bary);
+          const Material* m = material;
           where[batch.count] = i;
           shader->add(batch, *m, s);
           if (batch.full()) flush();

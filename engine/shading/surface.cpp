@@ -8,8 +8,8 @@ namespace cr {
 namespace {
 
 template <typename T>
-T interpolate(const std::vector<T>& stream, const uint32_t idx[3], const glm::vec3& w) {
-  return w.x * stream[idx[0]] + w.y * stream[idx[1]] + w.z * stream[idx[2]];
+T interpolate(const T v[3], const glm::vec3& w) {
+  return w.x * v[0] + w.y * v[1] + w.z * v[2];
 }
 
 }  // namespace
@@ -21,56 +21,66 @@ glm::vec3 orthogonal_tangent(const glm::vec3& n) {
   return {1.0f + sign * n.x * n.x * a, sign * b, -sign * n.x};
 }
 
-SurfaceSample interpolate_surface(const Primitive& primitive, const Draw& draw, uint32_t triangle_index,
-                                  const Barycentrics& bary, bool front_facing, bool with_tangent) {
-  const uint32_t idx[3] = {primitive.indices[size_t(triangle_index) * 3], primitive.indices[size_t(triangle_index) * 3 + 1],
-                           primitive.indices[size_t(triangle_index) * 3 + 2]};
+TriangleSurface::TriangleSurface(const Primitive& primitive, const Draw& draw, uint32_t triangle_index,
+                                 bool front_facing, bool with_tangent)
+    : has_normals_(!primitive.normals.empty()),
+      has_tangents_(!primitive.tangents.empty()),
+      has_uv_(!primitive.texcoords.empty()),
+      has_color_(!primitive.colors.empty()),
+      with_tangent_(with_tangent),
+      front_facing_(front_facing) {
+  const size_t base = size_t(triangle_index) * 3;
+  const uint32_t idx[3] = {primitive.indices[base], primitive.indices[base + 1], primitive.indices[base + 2]};
+  const glm::mat3 world3(draw.world);
+  for (int k = 0; k < 3; ++k) {
+    const glm::vec3& p = primitive.positions[idx[k]];
+    position_[k] = glm::vec3(draw.world * glm::vec4(p, 1.0f));
+    normal_[k] = has_normals_ ? draw.normal_matrix * primitive.normals[idx[k]] : glm::vec3(0.0f);
+    tangent_[k] = has_tangents_ && with_tangent ? world3 * glm::vec3(primitive.tangents[idx[k]]) : glm::vec3(0.0f);
+    uv_[k] = has_uv_ ? primitive.texcoords[idx[k]] : glm::vec2(0.0f);
+    color_[k] = has_color_ ? primitive.colors[idx[k]] : glm::vec4(1.0f);
+  }
+  // A mirrored draw reverses the world-space winding, hence the sign.
+  const glm::vec3 e1 = world3 * (primitive.positions[idx[1]] - primitive.positions[idx[0]]);
+  const glm::vec3 e2 = world3 * (primitive.positions[idx[2]] - primitive.positions[idx[0]]);
+  geometric_normal_ = normalize_or(glm::cross(e1, e2) * (draw.mirrored ? -1.0f : 1.0f), glm::vec3(0.0f, 1.0f, 0.0f));
+  if (has_tangents_)
+    bitangent_sign_ = (primitive.tangents[idx[0]].w < 0.0f ? -1.0f : 1.0f) * (draw.mirrored ? -1.0f : 1.0f);
+}
+
+SurfaceSample TriangleSurface::at(const Barycentrics& bary) const {
   const glm::vec3& w = bary.b;
   SurfaceSample s;
-  s.front_facing = front_facing;
-  s.position = glm::vec3(draw.world * glm::vec4(interpolate(primitive.positions, idx, w), 1.0f));
+  s.front_facing = front_facing_;
+  s.position = interpolate(position_, w);
+  s.normal = has_normals_ ? normalize_or(interpolate(normal_, w), geometric_normal_) : geometric_normal_;
 
-  // The geometric normal backs up missing or degenerate shading normals (so
-  // it is only computed then); a mirrored draw reverses the world-space
-  // winding, hence the sign.
-  const glm::mat3 world3(draw.world);
-  auto geometric_normal = [&] {
-    const glm::vec3 e1 = world3 * (primitive.positions[idx[1]] - primitive.positions[idx[0]]);
-    const glm::vec3 e2 = world3 * (primitive.positions[idx[2]] - primitive.positions[idx[0]]);
-    return normalize_or(glm::cross(e1, e2) * (draw.mirrored ? -1.0f : 1.0f), glm::vec3(0.0f, 1.0f, 0.0f));
-  };
-  s.normal = primitive.normals.empty()
-                 ? geometric_normal()
-                 : normalize_or_else(draw.normal_matrix * interpolate(primitive.normals, idx, w), geometric_normal);
-
-  if (with_tangent) {
-    glm::vec3 tangent(0.0f);
-    float bitangent_sign = 1.0f;
-    if (!primitive.tangents.empty()) {
-      const glm::vec4 t = interpolate(primitive.tangents, idx, w);
-      tangent = world3 * glm::vec3(t);
-      bitangent_sign = (primitive.tangents[idx[0]].w < 0.0f ? -1.0f : 1.0f) * (draw.mirrored ? -1.0f : 1.0f);
-    }
+  if (with_tangent_) {
+    const glm::vec3 tangent = has_tangents_ ? interpolate(tangent_, w) : glm::vec3(0.0f);
     // Gram-Schmidt against the interpolated normal.
-    tangent = normalize_or_else(tangent - s.normal * glm::dot(s.normal, tangent),
-                                [&s] { return orthogonal_tangent(s.normal); });
-    s.tangent = glm::vec4(tangent, bitangent_sign);
+    s.tangent = glm::vec4(normalize_or_else(tangent - s.normal * glm::dot(s.normal, tangent),
+                                            [&s] { return orthogonal_tangent(s.normal); }),
+                          bitangent_sign_);
   }
-
-  if (!primitive.texcoords.empty()) {
-    s.uv = interpolate(primitive.texcoords, idx, w);
-    s.duv_dx = interpolate(primitive.texcoords, idx, bary.ddx);
-    s.duv_dy = interpolate(primitive.texcoords, idx, bary.ddy);
+  if (has_uv_) {
+    s.uv = interpolate(uv_, w);
+    s.duv_dx = interpolate(uv_, bary.ddx);
+    s.duv_dy = interpolate(uv_, bary.ddy);
   }
-  if (!primitive.colors.empty()) s.color = interpolate(primitive.colors, idx, w);
+  if (has_color_) s.color = interpolate(color_, w);
 
-  if (!front_facing) {
+  if (!front_facing_) {
     // Flip the whole frame (N, T and B = cross(N, T) * w) so a normal map
     // reads the same from the back as from the front.
     s.normal = -s.normal;
-    if (with_tangent) s.tangent = -s.tangent;
+    if (with_tangent_) s.tangent = -s.tangent;
   }
   return s;
+}
+
+SurfaceSample interpolate_surface(const Primitive& primitive, const Draw& draw, uint32_t triangle_index,
+                                  const Barycentrics& bary, bool front_facing, bool with_tangent) {
+  return TriangleSurface(primitive, draw, triangle_index, front_facing, with_tangent).at(bary);
 }
 
 }  // namespace cr

@@ -22,15 +22,36 @@ struct SurfaceSample {
   bool front_facing = true;
 };
 
-// Interpolates triangle `triangle_index` of `primitive` placed by `draw`:
-// positions by Draw::world, normals by Draw::normal_matrix, tangents by the
-// world 3x3 (bitangent sign flipped for mirrored draws); UV derivatives from
-// the barycentric derivatives. Missing streams default to uv 0, colour 1 and
-// an arbitrary tangent orthogonal to the normal. A back face flips the normal
-// and tangent frame: the rasterizer culls back faces of single-sided
-// materials (glTF), so a back face here belongs to a double-sided one.
-// with_tangent = false skips the tangent frame (SurfaceSample::tangent keeps
-// its default) for materials without a normal map, the only reader of it.
+// One triangle of `primitive` placed by `draw`, its vertex attributes moved
+// to world space once: positions by Draw::world, normals by
+// Draw::normal_matrix, tangents by the world 3x3 (bitangent sign flipped for
+// mirrored draws). Pixels covered by the same triangle interpolate from it
+// without re-fetching and re-transforming the vertices. Missing streams
+// default to uv 0, colour 1 and an arbitrary tangent orthogonal to the
+// normal. A back face flips the normal and tangent frame: the rasterizer
+// culls back faces of single-sided materials (glTF), so a back face here
+// belongs to a double-sided one. with_tangent = false skips the tangent frame
+// (SurfaceSample::tangent keeps its default) for materials without a normal
+// map, the only reader of it.
+class TriangleSurface {
+ public:
+  TriangleSurface(const Primitive& primitive, const Draw& draw, uint32_t triangle_index, bool front_facing,
+                  bool with_tangent = true);
+  // The surface at barycentrics `bary`; UV derivatives from its derivatives.
+  SurfaceSample at(const Barycentrics& bary) const;
+
+ private:
+  glm::vec3 position_[3];
+  glm::vec3 normal_[3];      // world, not normalised (interpolated, then normalised)
+  glm::vec3 geometric_normal_;  // backs up missing or degenerate shading normals
+  glm::vec3 tangent_[3];     // world 3x3 * tangent xyz
+  glm::vec2 uv_[3];
+  glm::vec4 color_[3];
+  float bitangent_sign_ = 1.0f;
+  bool has_normals_, has_tangents_, has_uv_, has_color_, with_tangent_, front_facing_;
+};
+
+// TriangleSurface(primitive, draw, triangle_index, front_facing, with_tangent).at(bary).
 SurfaceSample interpolate_surface(const Primitive& primitive, const Draw& draw, uint32_t triangle_index,
                                   const Barycentrics& bary, bool front_facing, bool with_tangent = true);
 
