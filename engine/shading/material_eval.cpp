@@ -22,22 +22,27 @@ glm::vec3 apply_normal_map(const glm::vec3& texel, float scale, const SurfaceSam
   return normalize_or(tangent * t.x + bitangent * t.y + s.normal * t.z, s.normal);
 }
 
-// The LOD of the surface's UV footprint for textures of one base size:
-// material textures mostly share a size, and the LOD's log2 is a large part
-// of a lookup's cost.
-class SharedLod {
+// The texture footprint of the surface point for images of one base size
+// read through one sampler: material textures mostly share both, and the
+// LOD's log2, the wrapping and the filter weights are a large part of a lookup.
+class SharedFootprint {
  public:
-  explicit SharedLod(const SurfaceSample& surface) : surface_(surface) {}
+  explicit SharedFootprint(const SurfaceSample& surface) : surface_(surface) {}
 
-  float of(const Image& image) {
+  const TextureFootprint& of(const Image& image, const Sampler& sampler) {
     const int w = image.mips.empty() ? 0 : image.mips[0].width;
     const int h = image.mips.empty() ? 0 : image.mips[0].height;
     if (w != width_ || h != height_) {
       width_ = w;
       height_ = h;
+      sampler_ = nullptr;
       lambda_ = texture_lod(image, surface_.duv_dx, surface_.duv_dy);
     }
-    return lambda_;
+    if (&sampler != sampler_) {
+      sampler_ = &sampler;
+      footprint_ = texture_footprint(image, sampler, surface_.uv, lambda_);
+    }
+    return footprint_;
   }
 
  private:
@@ -45,13 +50,15 @@ class SharedLod {
   int width_ = -1;
   int height_ = -1;
   float lambda_ = 0.0f;
+  const Sampler* sampler_ = nullptr;
+  TextureFootprint footprint_;
 };
 
-glm::vec4 sample_slot(const Scene& scene, const TextureRef& ref, const SurfaceSample& surface, SharedLod& lod) {
+glm::vec4 sample_slot(const Scene& scene, const TextureRef& ref, SharedFootprint& footprint) {
   if (!ref.valid()) return glm::vec4(1.0f);
   const Image& image = scene.images[size_t(ref.image)];
   const Sampler& sampler = ref.sampler >= 0 ? scene.samplers[size_t(ref.sampler)] : default_sampler();
-  return sample_texture_at_lod(image, sampler, surface.uv, lod.of(image));
+  return sample_footprint(image, footprint.of(image, sampler));
 }
 
 }  // namespace
@@ -62,8 +69,8 @@ const Sampler& default_sampler() {
 }
 
 glm::vec4 sample_material_texture(const Scene& scene, const TextureRef& ref, const SurfaceSample& surface) {
-  SharedLod lod(surface);
-  return sample_slot(scene, ref, surface, lod);
+  SharedFootprint footprint(surface);
+  return sample_slot(scene, ref, footprint);
 }
 
 float material_alpha(const Scene& scene, const Material& material, const SurfaceSample& surface) {
@@ -72,27 +79,27 @@ float material_alpha(const Scene& scene, const Material& material, const Surface
 }
 
 MaterialSample evaluate_material(const Scene& scene, const Material& material, const SurfaceSample& surface) {
-  SharedLod lod(surface);
+  SharedFootprint footprint(surface);
   MaterialSample m;
-  const glm::vec4 base = material.base_color_factor * sample_slot(scene, material.base_color, surface, lod) * surface.color;
+  const glm::vec4 base = material.base_color_factor * sample_slot(scene, material.base_color, footprint) * surface.color;
   m.base_color = glm::max(glm::vec3(base), glm::vec3(0.0f));
   m.alpha = saturate(base.a);
 
-  const glm::vec4 mr = sample_slot(scene, material.metallic_roughness, surface, lod);
+  const glm::vec4 mr = sample_slot(scene, material.metallic_roughness, footprint);
   m.roughness = saturate(material.roughness_factor * mr.g);
   m.metallic = saturate(material.metallic_factor * mr.b);
 
   m.normal = material.normal.valid()
-                 ? apply_normal_map(glm::vec3(sample_slot(scene, material.normal, surface, lod)),
+                 ? apply_normal_map(glm::vec3(sample_slot(scene, material.normal, footprint)),
                                     material.normal.scale, surface)
                  : surface.normal;
 
   if (material.occlusion.valid()) {
     const float strength = saturate(material.occlusion.scale);
-    m.occlusion = 1.0f + strength * (sample_slot(scene, material.occlusion, surface, lod).r - 1.0f);
+    m.occlusion = 1.0f + strength * (sample_slot(scene, material.occlusion, footprint).r - 1.0f);
   }
   if (material.emissive_factor != glm::vec3(0.0f)) {
-    m.emissive = material.emissive_factor * glm::vec3(sample_slot(scene, material.emissive, surface, lod)) *
+    m.emissive = material.emissive_factor * glm::vec3(sample_slot(scene, material.emissive, footprint)) *
                  kEmissiveNits;
   }
   return m;

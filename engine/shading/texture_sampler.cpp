@@ -31,8 +31,8 @@ struct TexelDecoder {
       : rgb(image.srgb ? srgb_decode_table().data() : unorm_decode_table().data()),
         alpha(unorm_decode_table().data()) {}
 
-  glm::vec4 operator()(const MipLevel& m, int x, int y) const {
-    const uint8_t* p = &m.rgba[(size_t(y) * size_t(m.width) + size_t(x)) * 4];
+  glm::vec4 operator()(const MipLevel& m, uint32_t texel) const {
+    const uint8_t* p = &m.rgba[size_t(texel) * 4];
     return {rgb[p[0]], rgb[p[1]], rgb[p[2]], alpha[p[3]]};
   }
 };
@@ -76,32 +76,46 @@ float reduce_coordinate(float u, Wrap wrap) {
   return small ? u - float(floor_to_int(u)) : 0.0f;
 }
 
-// sample_level on coordinates already reduced (they do not depend on the
-// level, so trilinear lookups reduce once for both levels).
-glm::vec4 sample_reduced(const MipLevel& m, const TexelDecoder& decode, float ru, float rv, Filter filter,
-                         Wrap wrap_s, Wrap wrap_t) {
+// One level's share of a footprint on coordinates already reduced (they do
+// not depend on the level, so trilinear lookups reduce once for both levels).
+TextureFootprint::Level level_footprint(const MipLevel& m, int index, float ru, float rv, Filter filter,
+                                        Wrap wrap_s, Wrap wrap_t) {
+  TextureFootprint::Level f;
+  f.index = index;
   const float u = ru * float(m.width);
   const float v = rv * float(m.height);
   // Reduced coordinates are small, so floor_to_int applies.
   if (filter == Filter::Nearest) {
     const int x = wrap_index(floor_to_int(u), m.width, wrap_s);
     const int y = wrap_index(floor_to_int(v), m.height, wrap_t);
-    return decode(m, x, y);
+    const uint32_t o = uint32_t(y) * uint32_t(m.width) + uint32_t(x);
+    f.texel[0] = f.texel[1] = f.texel[2] = f.texel[3] = o;  // weights 0: the texel itself, exactly
+    return f;
   }
   // Texel centres sit at integer + 0.5.
   const float fx = u - 0.5f;
   const float fy = v - 0.5f;
   const int xi = floor_to_int(fx);
   const int yi = floor_to_int(fy);
-  const float ax = fx - float(xi);
-  const float ay = fy - float(yi);
-  const int x0 = wrap_index(xi, m.width, wrap_s);
-  const int x1 = wrap_index(xi + 1, m.width, wrap_s);
-  const int y0 = wrap_index(yi, m.height, wrap_t);
-  const int y1 = wrap_index(yi + 1, m.height, wrap_t);
-  const glm::vec4 top = glm::mix(decode(m, x0, y0), decode(m, x1, y0), ax);
-  const glm::vec4 bottom = glm::mix(decode(m, x0, y1), decode(m, x1, y1), ax);
-  return glm::mix(top, bottom, ay);
+  f.ax = fx - float(xi);
+  f.ay = fy - float(yi);
+  const uint32_t x0 = uint32_t(wrap_index(xi, m.width, wrap_s));
+  const uint32_t x1 = uint32_t(wrap_index(xi + 1, m.width, wrap_s));
+  const uint32_t y0 = uint32_t(wrap_index(yi, m.height, wrap_t)) * uint32_t(m.width);
+  const uint32_t y1 = uint32_t(wrap_index(yi + 1, m.height, wrap_t)) * uint32_t(m.width);
+  f.texel[0] = y0 + x0;
+  f.texel[1] = y0 + x1;
+  f.texel[2] = y1 + x0;
+  f.texel[3] = y1 + x1;
+  return f;
+}
+
+glm::vec4 sample_level_footprint(const Image& image, const TexelDecoder& decode,
+                                 const TextureFootprint::Level& f) {
+  const MipLevel& m = image.mips[size_t(f.index)];
+  const glm::vec4 top = glm::mix(decode(m, f.texel[0]), decode(m, f.texel[1]), f.ax);
+  const glm::vec4 bottom = glm::mix(decode(m, f.texel[2]), decode(m, f.texel[3]), f.ax);
+  return glm::mix(top, bottom, f.ay);
 }
 
 }  // namespace
@@ -116,41 +130,65 @@ float texture_lod(const Image& image, glm::vec2 duv_dx, glm::vec2 duv_dy) {
 }
 
 glm::vec4 fetch_texel(const Image& image, int level, int x, int y) {
-  return TexelDecoder(image)(image.mips[size_t(level)], x, y);
+  const MipLevel& m = image.mips[size_t(level)];
+  return TexelDecoder(image)(m, uint32_t(y) * uint32_t(m.width) + uint32_t(x));
 }
 
 glm::vec4 sample_level(const Image& image, int level, glm::vec2 uv, Filter filter, Wrap wrap_s,
                        Wrap wrap_t) {
-  return sample_reduced(image.mips[size_t(level)], TexelDecoder(image), reduce_coordinate(uv.x, wrap_s),
-                        reduce_coordinate(uv.y, wrap_t), filter, wrap_s, wrap_t);
+  const TextureFootprint::Level f = level_footprint(image.mips[size_t(level)], level, reduce_coordinate(uv.x, wrap_s),
+                                                    reduce_coordinate(uv.y, wrap_t), filter, wrap_s, wrap_t);
+  return sample_level_footprint(image, TexelDecoder(image), f);
 }
 
-glm::vec4 sample_texture_at_lod(const Image& image, const Sampler& sampler, glm::vec2 uv, float lambda) {
-  if (image.mips.empty()) return glm::vec4(1.0f);
-  const TexelDecoder decode(image);
+TextureFootprint texture_footprint(const Image& image, const Sampler& sampler, glm::vec2 uv, float lambda) {
+  TextureFootprint f;
+  if (image.mips.empty()) return f;
   const float ru = reduce_coordinate(uv.x, sampler.wrap_s);
   const float rv = reduce_coordinate(uv.y, sampler.wrap_t);
   auto at_level = [&](int level, Filter filter) {
-    return sample_reduced(image.mips[size_t(level)], decode, ru, rv, filter, sampler.wrap_s, sampler.wrap_t);
+    return level_footprint(image.mips[size_t(level)], level, ru, rv, filter, sampler.wrap_s, sampler.wrap_t);
   };
+  f.levels = 1;
   // OpenGL's switch-over point: 0.5 when a linear magnification meets a
   // nearest-within-level minification with mipmaps, so the switch is seamless.
   const float c = (sampler.mag == Filter::Linear && sampler.min == Filter::Nearest && sampler.mip) ? 0.5f : 0.0f;
-  if (!(lambda > c) || !sampler.mip) return at_level(0, lambda > c ? sampler.min : sampler.mag);
+  if (!(lambda > c) || !sampler.mip) {
+    f.level[0] = at_level(0, lambda > c ? sampler.min : sampler.mag);
+    return f;
+  }
   const int last = int(image.mips.size()) - 1;
   if (*sampler.mip == Filter::Nearest) {
     // OpenGL: d = ceil(lambda + 1/2) - 1 above 1/2, level 0 below.
     const int level = lambda <= 0.5f ? 0 : int(std::min(std::ceil(lambda + 0.5f) - 1.0f, float(last)));
-    return at_level(level, sampler.min);
+    f.level[0] = at_level(level, sampler.min);
+    return f;
   }
-  if (lambda >= float(last)) return at_level(last, sampler.min);
+  if (lambda >= float(last)) {
+    f.level[0] = at_level(last, sampler.min);
+    return f;
+  }
   // Here 0 < lambda < last: small and finite.
   const int level = floor_to_int(lambda);
-  const float t = lambda - float(level);
-  const glm::vec4 a = at_level(level, sampler.min);
+  f.level[0] = at_level(level, sampler.min);
+  f.t = lambda - float(level);
   // mix(a, b, 0) is a exactly (texels are finite): the second level adds nothing.
-  if (t == 0.0f) return a;
-  return glm::mix(a, at_level(level + 1, sampler.min), t);
+  if (f.t == 0.0f) return f;
+  f.level[1] = at_level(level + 1, sampler.min);
+  f.levels = 2;
+  return f;
+}
+
+glm::vec4 sample_footprint(const Image& image, const TextureFootprint& f) {
+  if (f.levels == 0 || image.mips.empty()) return glm::vec4(1.0f);
+  const TexelDecoder decode(image);
+  const glm::vec4 a = sample_level_footprint(image, decode, f.level[0]);
+  if (f.levels == 1) return a;
+  return glm::mix(a, sample_level_footprint(image, decode, f.level[1]), f.t);
+}
+
+glm::vec4 sample_texture_at_lod(const Image& image, const Sampler& sampler, glm::vec2 uv, float lambda) {
+  return sample_footprint(image, texture_footprint(image, sampler, uv, lambda));
 }
 
 glm::vec4 sample_texture(const Image& image, const Sampler& sampler, glm::vec2 uv, glm::vec2 duv_dx,

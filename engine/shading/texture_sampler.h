@@ -4,6 +4,8 @@
 // scale factor, magnification/minification filters, nearest or linear
 // (trilinear) mip selection, and the three glTF wrap modes. sRGB images are
 // decoded to linear per texel before filtering, as GPUs do.
+#include <cstdint>
+
 #include <glm/glm.hpp>
 
 #include "engine/scene/scene.h"
@@ -22,6 +24,25 @@ glm::vec4 fetch_texel(const Image& image, int level, int x, int y);
 // Filtered lookup inside one mip level (no mip selection).
 glm::vec4 sample_level(const Image& image, int level, glm::vec2 uv, Filter filter, Wrap wrap_s,
                        Wrap wrap_t);
+
+// Where a lookup at one UV and level of detail reads: up to two mip levels,
+// each a 2x2 block of texels (one texel, four times, for nearest filtering)
+// with its bilinear fractions, and the second level's weight. It depends only
+// on the image's mip sizes and the sampler, so the lookups of several images
+// of one size through one sampler (a material's textures, mostly) share it.
+struct TextureFootprint {
+  struct Level {
+    int index = 0;         // mip level
+    uint32_t texel[4]{};   // texel indices (y * width + x): (x0,y0) (x1,y0) (x0,y1) (x1,y1)
+    float ax = 0.0f, ay = 0.0f;
+  };
+  Level level[2];
+  int levels = 0;  // 0: the image has no levels (reads as opaque white)
+  float t = 0.0f;  // weight of level[1] when levels == 2
+};
+TextureFootprint texture_footprint(const Image& image, const Sampler& sampler, glm::vec2 uv, float lambda);
+// The filtered value of `image` (of the footprint's mip sizes) over the footprint.
+glm::vec4 sample_footprint(const Image& image, const TextureFootprint& footprint);
 
 // Lookup at a given level of detail (texture_lod's lambda): lookups of
 // several images of one base size at one surface point share the LOD.
