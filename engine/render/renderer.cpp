@@ -70,9 +70,7 @@ CoverageFn alpha_coverage(const Scene& scene, const TiledRasterizer& raster) {
     const Draw& d = scene.draws[r.draw_index];
     const Primitive& prim = scene.primitive(d);
     const Material& m = material_of(scene, prim);
-    // Coverage reads uv and colour only: no tangent frame.
-    return material_alpha(scene, m, interpolate_surface(prim, d, r.triangle_index, bary, r.front_facing, false)) >=
-           m.alpha_cutoff;
+    return material_alpha(scene, m, interpolate_uv_color(prim, r.triangle_index, bary)) >= m.alpha_cutoff;
   };
 }
 

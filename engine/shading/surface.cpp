@@ -78,6 +78,23 @@ SurfaceSample TriangleSurface::at(const Barycentrics& bary) const {
   return s;
 }
 
+SurfaceSample interpolate_uv_color(const Primitive& primitive, uint32_t triangle_index, const Barycentrics& bary) {
+  const size_t base = size_t(triangle_index) * 3;
+  const uint32_t idx[3] = {primitive.indices[base], primitive.indices[base + 1], primitive.indices[base + 2]};
+  SurfaceSample s;
+  if (!primitive.texcoords.empty()) {
+    const glm::vec2 uv[3] = {primitive.texcoords[idx[0]], primitive.texcoords[idx[1]], primitive.texcoords[idx[2]]};
+    s.uv = interpolate(uv, bary.b);
+    s.duv_dx = interpolate(uv, bary.ddx);
+    s.duv_dy = interpolate(uv, bary.ddy);
+  }
+  if (!primitive.colors.empty()) {
+    const glm::vec4 c[3] = {primitive.colors[idx[0]], primitive.colors[idx[1]], primitive.colors[idx[2]]};
+    s.color = interpolate(c, bary.b);
+  }
+  return s;
+}
+
 SurfaceSample interpolate_surface(const Primitive& primitive, const Draw& draw, uint32_t triangle_index,
                                   const Barycentrics& bary, bool front_facing, bool with_tangent) {
   return TriangleSurface(primitive, draw, triangle_index, front_facing, with_tangent).at(bary);

@@ -55,6 +55,11 @@ class TriangleSurface {
 SurfaceSample interpolate_surface(const Primitive& primitive, const Draw& draw, uint32_t triangle_index,
                                   const Barycentrics& bary, bool front_facing, bool with_tangent = true);
 
+// Only the UV (with derivatives) and colour of a triangle at `bary`, the rest
+// of the sample at its defaults: what alpha coverage (material_alpha) reads,
+// for the rasterizer's per-fragment MASK test.
+SurfaceSample interpolate_uv_color(const Primitive& primitive, uint32_t triangle_index, const Barycentrics& bary);
+
 // A unit tangent orthogonal to unit n, continuous except where n.z changes
 // sign (Duff et al. 2017, "Building an Orthonormal Basis, Revisited").
 glm::vec3 orthogonal_tangent(const glm::vec3& n);

@@ -162,3 +162,25 @@ TEST_CASE("surface: skipping the tangent frame leaves every other attribute unch
     }
   }
 }
+
+TEST_CASE("surface: the coverage-only interpolation gives the full sample's uv, derivatives and colour") {
+  Primitive p = unit_triangle();
+  p.colors = {glm::vec4(1.0f, 0.5f, 0.25f, 0.1f), glm::vec4(0.2f, 0.4f, 0.6f, 0.9f), glm::vec4(0.0f, 1.0f, 0.0f, 0.5f)};
+  Primitive bare = p;
+  bare.texcoords.clear();
+  bare.colors.clear();
+  const Draw d = make_draw(glm::rotate(glm::mat4(1.0f), 0.3f, glm::vec3(0, 1, 0)));
+  Barycentrics b;
+  b.b = {0.6f, 0.15f, 0.25f};
+  b.ddx = {0.01f, -0.02f, 0.01f};
+  b.ddy = {-0.03f, 0.0f, 0.03f};
+  for (const Primitive* prim : {static_cast<const Primitive*>(&p), static_cast<const Primitive*>(&bare)}) {
+    const SurfaceSample full = interpolate_surface(*prim, d, 0, b, true, false);
+    const SurfaceSample lean = interpolate_uv_color(*prim, 0, b);
+    CHECK(lean.uv == full.uv);
+    CHECK(lean.duv_dx == full.duv_dx);
+    CHECK(lean.duv_dy == full.duv_dy);
+    CHECK(lean.color == full.color);
+  }
+  CHECK(interpolate_uv_color(p, 0, b).color != SurfaceSample{}.color);  // the colours were read
+}
