@@ -140,20 +140,21 @@ const FrameRecord& Renderer::render_frame(int frame) {
   const bool shadows = profile_.shadow_map_size > 0 && sun_up;
   if (shadows)
     graph.add_pass("shadow", [](FrameGraph::Builder& b) { b.write("shadow_map"); }, [this, &geo, &view] {
-      ShadowMap fit = fit_shadow_map(view.camera, view.sun_direction, profile_.shadow_distance,
+      ShadowMap fit = fit_shadow_projection(view.camera, view.sun_direction, profile_.shadow_distance,
                                      profile_.shadow_map_size, profile_.shadow_pcf_radius, scene_.bounds_min,
                                      scene_.bounds_max);
       // The scene is static: when the texel-snapped projection has not moved,
       // last frame's map is exactly what a new render would produce.
       const bool unchanged = fit.size == shadow_.size && fit.light_view_proj == shadow_.light_view_proj &&
                              fit.origin == shadow_.origin && fit.direction_to_sun == shadow_.direction_to_sun;
+      // Last frame's depth image: kept when unchanged, else its memory is
+      // re-used (the render writes every texel).
+      fit.depth.swap(shadow_.depth);
+      shadow_ = std::move(fit);
       if (unchanged) {
-        fit.depth.swap(shadow_.depth);
-        shadow_ = std::move(fit);
         geo.shadow_reused = true;
         return;
       }
-      shadow_ = std::move(fit);
       geo.shadow_reused = false;
       geo.casters.clear();
       for (uint32_t i = 0; i < scene_.draws.size(); ++i) {

@@ -77,7 +77,7 @@ int count_lit_taps(const float* depth, int size, int x0, int y0, int n, float re
 
 }  // namespace
 
-ShadowMap fit_shadow_map(const Camera& view, const glm::vec3& direction_to_sun, float shadow_distance, int size,
+ShadowMap fit_shadow_projection(const Camera& view, const glm::vec3& direction_to_sun, float shadow_distance, int size,
                          int pcf_radius, const glm::vec3& scene_min, const glm::vec3& scene_max) {
   ShadowMap m;
   if (size <= 0) return m;
@@ -136,7 +136,13 @@ ShadowMap fit_shadow_map(const Camera& view, const glm::vec3& direction_to_sun, 
   m.depth_range = float(range);
   m.direction_to_sun = glm::vec3(basis.z);
   m.pcf_radius = std::max(pcf_radius, 0);
-  m.depth.assign(size_t(size) * size_t(size), 0.0f);
+  return m;
+}
+
+ShadowMap fit_shadow_map(const Camera& view, const glm::vec3& direction_to_sun, float shadow_distance, int size,
+                         int pcf_radius, const glm::vec3& scene_min, const glm::vec3& scene_max) {
+  ShadowMap m = fit_shadow_projection(view, direction_to_sun, shadow_distance, size, pcf_radius, scene_min, scene_max);
+  m.depth.assign(size_t(m.size) * size_t(m.size), 0.0f);
   return m;
 }
 

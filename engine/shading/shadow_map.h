@@ -26,7 +26,14 @@ struct ShadowMap {
   float visibility(const glm::vec3& world_pos, const glm::vec3& normal) const;
 };
 
-// Chooses the shadow projection for a view (does not render it).
+// Chooses the shadow projection for a view, with an empty depth image (reads
+// as lit everywhere): what a renderer compares with last frame's map before
+// it decides to render a new one, without clearing size^2 texels per frame.
+ShadowMap fit_shadow_projection(const Camera& view, const glm::vec3& direction_to_sun, float shadow_distance,
+                                int size, int pcf_radius, const glm::vec3& scene_min, const glm::vec3& scene_max);
+
+// fit_shadow_projection with the depth image allocated and cleared (no
+// occluder recorded), ready to be rendered or written.
 ShadowMap fit_shadow_map(const Camera& view, const glm::vec3& direction_to_sun, float shadow_distance,
                          int size, int pcf_radius, const glm::vec3& scene_min, const glm::vec3& scene_max);
 
