@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "atmosphere/phase_functions.h"
+
 namespace cr {
 
 glm::vec3 FroxelCamera::column_direction(float px, float py, int w, int h) const {
@@ -18,7 +20,7 @@ AerialPerspectiveLut::AerialPerspectiveLut(int width, int height, int depth, flo
       camera_(camera),
       luminance_(width, height, depth),
       transmittance_(width, height, depth),
-      packed_(size_t(width) * height * depth, FroxelTexel{}) {}
+      packed_(size_t(width + 1) * size_t(height + 1) * size_t(depth), FroxelTexel{}) {}
 
 float AerialPerspectiveLut::slice_distance(int slice) const {
   const float depth = float(luminance_.depth);
@@ -39,6 +41,24 @@ void AerialPerspectiveLut::bake(size_t begin, size_t end, const AtmosphereLuts& 
   const float floor_altitude = std::clamp(h0, 0.0f, 10.0f);
   const float mu_s = float(glm::dot(glm::dvec3(camera_.sun_direction), up0));
   const int w = luminance_.width;
+  const int depth = luminance_.depth;
+  const size_t steps = size_t(depth) * size_t(steps_per_slice_);
+  // The steps of a column: uniform within each slice, as march() spaces them.
+  MarchSteps column;
+  column.resize(steps);
+  float t_begin = 0.0f;
+  for (int s = 0; s < depth; ++s) {
+    const float t_end = slice_distance(s);
+    const float length = std::max(t_end - t_begin, 0.0f);
+    for (int k = 0; k < steps_per_slice_; ++k) {
+      const float f0 = float(k) / float(steps_per_slice_), f1 = float(k + 1) / float(steps_per_slice_);
+      const size_t i = size_t(s) * size_t(steps_per_slice_) + size_t(k);
+      column.dt[i] = (f1 - f0) * length;
+      column.t[i] = t_begin + 0.5f * (f0 + f1) * length;
+    }
+    t_begin = t_end;
+  }
+  const float h_start = std::max(h0, 0.0f);
   MarchedRay ray;
   for (size_t c = begin; c < end; ++c) {
     const int x = int(c % size_t(w));
@@ -46,18 +66,21 @@ void AerialPerspectiveLut::bake(size_t begin, size_t end, const AtmosphereLuts& 
     const glm::vec3 dir = camera_.column_direction(float(x) + 0.5f, float(y) + 0.5f, w, luminance_.height);
     const float mu = float(glm::dot(glm::dvec3(dir), up0));
     const float nu = std::clamp(glm::dot(dir, camera_.sun_direction), -1.0f, 1.0f);
+    const float mie_phase_value = mie_phase(m, nu);  // constant along the column
+    // The whole column's medium at once, then slice by slice, front to back.
+    march_media(m, h_start, mu, floor_altitude, column);
     glm::vec3 l(0.0f), t(1.0f);
-    float t_begin = 0.0f;
-    for (int s = 0; s < luminance_.depth; ++s) {
-      const float t_end = slice_distance(s);
-      march(luts, std::max(h0, 0.0f), mu, t_begin, t_end, steps_per_slice_, StepSpacing::Uniform, false,
-            floor_altitude, ray);
-      l += t * shade(luts, ray, mu_s, nu);
+    for (int s = 0; s < depth; ++s) {
+      const size_t first = size_t(s) * size_t(steps_per_slice_);
+      accumulate(luts, column, first, first + size_t(steps_per_slice_), h_start, ray);
+      l += t * shade_split(luts, ray, mu_s, nu).total(mie_phase_value);
       t *= ray.transmittance;
       luminance_.at(x, y, s) = l;
       transmittance_.at(x, y, s) = t;
-      packed_[luminance_.index(x, y, s)] = {{l.x, l.y, l.z, 0.0f}, {t.x, t.y, t.z, 0.0f}};
-      t_begin = t_end;
+      const FroxelTexel texel = {{l.x, l.y, l.z, 0.0f}, {t.x, t.y, t.z, 0.0f}};
+      // The column's own texel and its copies in the padding (written by this column's job only).
+      for (int py = y; py <= (y + 1 == luminance_.height ? y + 1 : y); ++py)
+        for (int px = x; px <= (x + 1 == w ? x + 1 : x); ++px) packed_[packed_index(px, py, s)] = texel;
     }
   }
 }

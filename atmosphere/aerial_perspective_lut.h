@@ -50,7 +50,13 @@ class AerialPerspectiveLut {
 
   const LutImage& luminance() const { return luminance_; }
   const LutImage& transmittance() const { return transmittance_; }
-  const std::vector<FroxelTexel>& packed() const { return packed_; }  // both images interleaved
+  // Both images interleaved, (width + 1) x (height + 1) x depth: the extra
+  // column and row repeat the last ones, so a bilinear footprint starting at
+  // any texel stays inside without a clamp.
+  const std::vector<FroxelTexel>& packed() const { return packed_; }
+  size_t packed_index(int x, int y, int z) const {
+    return (size_t(z) * size_t(luminance_.height + 1) + size_t(y)) * size_t(luminance_.width + 1) + size_t(x);
+  }
   const FroxelCamera& camera() const { return camera_; }
 
  private:

@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "atmosphere/atmosphere_density.h"
 #include "atmosphere/fast_math.h"
+#include "atmosphere/float4.h"
 #include "atmosphere/phase_functions.h"
 #include "atmosphere/planet_geometry.h"
 
@@ -28,6 +30,10 @@ struct AltitudeMarch {
   std::vector<float> ground_x, ground_y;  // ground hit point / R
   std::vector<TransmittanceRow> ground_row;
   std::vector<float> dir_weight;
+  // The steps' sun-lookup inputs again, one array each, for a loop that vectorizes.
+  std::vector<float> tx_over_r, y_over_r, row_r, row_d_min, row_inv_d_range, row_top2_minus_r2, row_mu_horizon,
+      row_penumbra;
+  std::vector<Float4> weight;  // the steps' weights as rgb + pad
 };
 
 AltitudeMarch march_altitude(const AtmosphereModel& m, const TransmittanceLut& lut, float altitude,
@@ -85,7 +91,44 @@ AltitudeMarch march_altitude(const AtmosphereModel& m, const TransmittanceLut& l
       }
     }
   }
+  for (auto* v : {&am.tx_over_r, &am.y_over_r, &am.row_r, &am.row_d_min, &am.row_inv_d_range,
+                  &am.row_top2_minus_r2, &am.row_mu_horizon, &am.row_penumbra})
+    v->resize(am.steps.size());
+  am.weight.resize(am.steps.size());
+  for (size_t k = 0; k < am.steps.size(); ++k) {
+    const MarchStep& s = am.steps[k];
+    am.weight[k] = to_float4(s.weight);
+    am.tx_over_r[k] = s.tx_over_r;
+    am.y_over_r[k] = s.y_over_r;
+    am.row_r[k] = s.row.r;
+    am.row_d_min[k] = s.row.d_min;
+    am.row_inv_d_range[k] = s.row.inv_d_range;
+    am.row_top2_minus_r2[k] = s.row.top2_minus_r2;
+    am.row_mu_horizon[k] = s.row.mu_horizon;
+    am.row_penumbra[k] = s.row.penumbra;
+  }
   return am;
+}
+
+// The sun transmittance lookups of every step of every direction for one sun
+// angle (sin_s, mu_s): one loop that vectorizes, 8 lanes where AVX2 is available.
+__attribute__((target_clones("avx2", "default")))
+void sun_lookups(size_t n, int width, float sin_s, float mu_s, const float* __restrict tx_over_r,
+                 const float* __restrict y_over_r, const float* __restrict r, const float* __restrict d_min,
+                 const float* __restrict inv_d_range, const float* __restrict top2_minus_r2,
+                 const float* __restrict mu_horizon, const float* __restrict penumbra, int* __restrict x0,
+                 int* __restrict x1, float* __restrict w, float* __restrict visible) {
+  for (size_t k = 0; k < n; ++k) {
+    const float mu = tx_over_r[k] * sin_s + y_over_r[k] * mu_s;
+    TransmittanceRow row{};
+    row.r = r[k];
+    row.d_min = d_min[k];
+    row.inv_d_range = inv_d_range[k];
+    row.top2_minus_r2 = top2_minus_r2[k];
+    row.mu_horizon = mu_horizon[k];
+    row.penumbra = penumbra[k];
+    sun_lookup(row, width, mu, x0[k], x1[k], w[k], visible[k]);
+  }
 }
 
 void integrate_sun(const AltitudeMarch& am, const TransmittanceLut& lut, int steps, float mu_s,
@@ -94,14 +137,27 @@ void integrate_sun(const AltitudeMarch& am, const TransmittanceLut& lut, int ste
   l2 = glm::vec3(0.0f);
   fms = glm::vec3(0.0f);
   const size_t dirs = am.fms.size();
+  const size_t n = am.steps.size();
+  thread_local std::vector<int> x0, x1;
+  thread_local std::vector<float> w, visible;
+  x0.resize(n);
+  x1.resize(n);
+  w.resize(n);
+  visible.resize(n);
+  const int width = lut.image().width;
+  sun_lookups(n, width, sin_s, mu_s, am.tx_over_r.data(), am.y_over_r.data(), am.row_r.data(), am.row_d_min.data(),
+              am.row_inv_d_range.data(), am.row_top2_minus_r2.data(), am.row_mu_horizon.data(),
+              am.row_penumbra.data(), x0.data(), x1.data(), w.data(), visible.data());
+  const float* texels = lut.packed();
   for (size_t d = 0; d < dirs; ++d) {
-    glm::vec3 l(0.0f);
-    const MarchStep* s = &am.steps[d * size_t(steps)];
-    for (int k = 0; k < steps; ++k) {
-      const float mu = s[k].tx_over_r * sin_s + s[k].y_over_r * mu_s;
-      l += s[k].weight * lut.sun(s[k].row, mu);
+    Float4 sum{};
+    for (size_t k = d * size_t(steps); k < (d + 1) * size_t(steps); ++k) {
+      const TransmittanceRow& row = am.steps[k].row;
+      // weight * lut.sun(row, mu), as rgb + pad texels
+      const Float4 sun = bilinear4(texels, width, x0[k], x1[k], w[k], row.y.i0, row.y.i1, row.y.w) * splat4(visible[k]);
+      sum += am.weight[k] * sun;
     }
-    l *= kIsotropicPhase;
+    glm::vec3 l = to_vec3(sum) * kIsotropicPhase;
     if (am.ground_tp[d] != glm::vec3(0.0f)) {
       const float mu_g = am.ground_x[d] * sin_s + am.ground_y[d] * mu_s;
       l += am.ground_tp[d] * lut.sun(am.ground_row[d], mu_g) * std::max(mu_g, 0.0f);
@@ -122,6 +178,7 @@ MultiScatteringLut::MultiScatteringLut(const AtmosphereModel& model, int size, i
       max_fms_(max_fms),
       inv_top_altitude_(float(1.0 / model.atmosphere_height())),
       image_(size, size),
+      packed_(4 * image_.count(), 0.0f),
       clamped_(size_t(size) * size, 0),
       fms_(size_t(size) * size, 0.0f) {}
 
@@ -142,7 +199,9 @@ void MultiScatteringLut::bake(size_t begin, size_t end, const TransmittanceLut& 
       clamped_[i] = fmax > max_fms_ ? 1 : 0;
       fms_[i] = fmax;
       const glm::vec3 f = glm::min(fms, glm::vec3(max_fms_));
-      image_.texels[i] = l2 / (glm::vec3(1.0f) - f);
+      const glm::vec3 psi = l2 / (glm::vec3(1.0f) - f);
+      image_.texels[i] = psi;
+      std::memcpy(&packed_[4 * i], &psi, sizeof psi);
     }
   }
 }

@@ -35,7 +35,7 @@ class MultiScatteringLut {
   float max_fms_seen() const;  // largest unclamped f_ms component over the LUT
 
   const LutImage& image() const { return image_; }
-
+  const float* packed() const { return packed_.data(); }  // the image as rgb + pad (see float4.h)
 
  private:
   AtmosphereModel model_;
@@ -44,6 +44,7 @@ class MultiScatteringLut {
   float max_fms_ = 0.95f;
   float inv_top_altitude_ = 0.0f;
   LutImage image_;
+  std::vector<float> packed_;
   std::vector<uint8_t> clamped_;
   std::vector<float> fms_;
 };

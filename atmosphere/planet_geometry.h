@@ -37,7 +37,8 @@ inline double horizon_mu(double r, double ground_radius) {
 // r^2 - R^2 = h0 (2R + h0) + t (t + 2 r0 mu): every term is small, so float is exact enough.
 inline float altitude_along_ray(float ground_radius, float h0_2r_h0, float r0mu, float t) {
   const float r2_minus_R2 = h0_2r_h0 + t * (t + 2.0f * r0mu);
-  return r2_minus_R2 / (ground_radius + std::sqrt(std::max(ground_radius * ground_radius + r2_minus_R2, 0.0f)));
+  const float r2 = ground_radius * ground_radius + r2_minus_R2;
+  return r2_minus_R2 / (ground_radius + std::sqrt(r2 < 0.0f ? 0.0f : r2));  // a select, not std::max: it vectorizes
 }
 
 }  // namespace cr

@@ -5,6 +5,7 @@
 // analytic segment integral (S - S*T)/sigma_t), and shade() adds what depends
 // on the sun (sun transmittance, phases, the multiple-scattering LUT). A row of
 // the sky-view LUT marches once and shades every longitude.
+#include <cstddef>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -43,6 +44,23 @@ struct MarchedRay {
 
 enum class StepSpacing { Uniform, Quadratic };
 
+// The ray-only quantities of many march steps, one array per quantity: the
+// caller sets the step centres t and lengths dt (any spacing), march_media()
+// fills the rest in one loop that vectorizes, and accumulate() turns a run of
+// steps into a MarchedRay. march() is these three; the aerial-perspective LUT
+// marches a whole froxel column at once and accumulates it slice by slice.
+struct MarchSteps {
+  std::vector<float> t, dt;
+  std::vector<float> h;                       // altitude (floored)
+  std::vector<float> rayleigh, mie;           // densities
+  std::vector<float> step_t[3], segment[3];   // per channel: exp(-tau), (1 - exp(-tau)) / sigma_t
+  void resize(size_t n);
+};
+void march_media(const AtmosphereModel& m, float h0, float mu, float floor_altitude, MarchSteps& steps);
+// The samples of steps [begin, end) as a ray starting at altitude h0, its throughput from 1 at `begin`.
+void accumulate(const AtmosphereLuts& luts, const MarchSteps& steps, size_t begin, size_t end, float h0,
+                MarchedRay& out);
+
 // Marches [t_begin, t_end] along the ray from altitude h0 with zenith cosine mu.
 // `hits_ground` is set when t_end is the ground hit (ground shading in shade()).
 // `floor_altitude` pushes samples that fall under it up to it (froxels below the ground).
@@ -60,6 +78,12 @@ struct ShadedRay {
   glm::vec3 total(float mie_phase_value) const { return rest + mie_unphased * mie_phase_value; }
 };
 ShadedRay shade_split(const AtmosphereLuts& luts, const MarchedRay& ray, float mu_s, float nu);
+// shade_split for n directions sharing one marched ray (a sky-view row: one
+// ray per view zenith, many angles to the sun), nu[j] each, into out[j]. The
+// results are bit-identical to shade_split's; the lookup coordinates of all
+// directions at a step come from one loop that vectorizes.
+void shade_split_many(const AtmosphereLuts& luts, const MarchedRay& ray, float mu_s, size_t n, const float* nu,
+                      ShadedRay* out);
 glm::vec3 shade(const AtmosphereLuts& luts, const MarchedRay& ray, float mu_s, float nu);
 
 // Whole-ray helper: from altitude h0 (clamped into the atmosphere by moving the

@@ -7,23 +7,13 @@
 #include <vector>
 
 #include "atmosphere/fast_math.h"
+#include "atmosphere/float4.h"
 #include "atmosphere/phase_functions.h"
 #include "atmosphere/planet_geometry.h"
 
 namespace cr {
 
 namespace {
-
-// Four floats in one SSE register (GCC/Clang vector extension): a packed texel
-// is two of them, so each bilinear/trilinear lerp is two vector operations.
-// Lane-wise IEEE arithmetic, exactly as rounded as the scalar code.
-using Float4 = float __attribute__((vector_size(16)));
-
-inline Float4 load4(const float* p) {
-  Float4 v;
-  std::memcpy(&v, p, sizeof v);
-  return v;
-}
 
 // Per-pixel ray march (space fallback for geometry, and geometry beyond the AP range).
 RayScattering march_pixel(const SkyFrame& f, const glm::vec3& dir, double max_distance) {
@@ -119,33 +109,124 @@ void sky_coordinates(const SkyRow& c, const Phase& phase, size_t n, const float*
   }
 }
 
-// Froxel texel coordinates of `n` opaque pixels at distances d along their
-// rays. The froxel camera may lag the frame's camera under an amortised
-// schedule (by less than the invalidation thresholds: 50 m, 5 deg): the
-// pixel's direction is reprojected into it and the distance kept; the offset
-// of the two positions moves the sample by at most those 50 m, where aerial
-// perspective changes over kilometres. Also a weight for the stretch between
-// the camera and the first slice (T = 1 and nothing scattered at the camera).
+// Aerial perspective from the froxels for `n` opaque pixels of a row.
+//
+// Froxel texel coordinates: the froxel camera may lag the frame's camera
+// under an amortised schedule (by less than the invalidation thresholds:
+// 50 m, 5 deg): the pixel's direction is reprojected into it and the distance
+// kept; the offset of the two positions moves the sample by at most those
+// 50 m, where aerial perspective changes over kilometres. Between the camera
+// and the first slice a weight scales the first slice (T = 1 and nothing
+// scattered at the camera).
 struct FroxelRow {
   RowDot fwd, right, up;
   float x_scale, x_bias, y_scale, y_bias;
   float inv_extent, depth, max_slice, inv_first_slice, max_x, max_y;
 };
 
-void froxel_coordinates(const FroxelRow& c, size_t n, const float* __restrict sx, const float* __restrict dist,
-                        float* __restrict fx, float* __restrict fy, float* __restrict fz, float* __restrict near_w) {
+// The packed froxel volume (see AerialPerspectiveLut::packed()).
+struct FroxelVolume {
+  const FroxelTexel* texels;
+  int width, height;  // of the LUT; the packed rows hold width + 1 texels, the slices height + 1 rows
+};
+
+// A froxel texel (luminance and transmittance) as one 8-float vector: one
+// 256-bit operation per lerp where AVX is available, two SSE ones otherwise,
+// with the same lane-wise IEEE results either way.
+using Float8 = float __attribute__((vector_size(32)));
+
+// Bilinear blend of the texels at r, r + dx, r + dy, r + dx + dy (offsets in
+// floats). Results by reference: a 32-byte vector is not returned by value,
+// whose ABI differs between the AVX and the baseline clones.
+inline void bilinear8(const float* r, size_t dx, size_t dy, const Float8& wx, const Float8& wy, Float8& out) {
+  Float8 a, b, c, d;
+  std::memcpy(&a, r, sizeof a);
+  std::memcpy(&b, r + dx, sizeof b);
+  std::memcpy(&c, r + dy, sizeof c);
+  std::memcpy(&d, r + dy + dx, sizeof d);
+  const Float8 top = a + (b - a) * wx, bottom = c + (d - c) * wx;
+  out = top + (bottom - top) * wy;
+}
+
+// Per-tile working memory, one per thread.
+struct Scratch {
+  std::vector<float> sx, row_sx, dist, a, b, c, d;
+  std::vector<int> sky, interp, froxel, other, identity, texel;
+  std::vector<glm::vec3> grid;       // exact sky at the grid points
+  std::vector<glm::vec3> edge;       // the grid interpolated to one row
+  std::vector<float> wx;             // per pixel: weight of the grid column to its right
+  std::vector<uint8_t> grid_above;   // grid point above the horizon
+  std::vector<float> grid_nu;        // cosine to the sun at the grid points
+  std::vector<uint8_t> block_exact;  // per block: evaluate every pixel
+  void resize(size_t n) {
+    for (auto* v : {&sx, &row_sx, &dist, &a, &b, &c, &d}) v->resize(n);
+    for (auto* v : {&sky, &interp, &froxel, &other, &texel}) v->resize(n);
+    for (size_t k = identity.size(); k < n; ++k) identity.push_back(int(k));
+  }
+};
+
+// Froxel footprints of the pixels at screen x sx[j] and distance dist[j]:
+// packed index of the first texel, trilinear weights, near-camera weight.
+// Branch-free, restrict pointers: it vectorizes.
+inline void froxel_footprints(const FroxelRow& c, const FroxelVolume& v, size_t n, const float* __restrict sx,
+                              const float* __restrict dist, int* __restrict texel, float* __restrict wx,
+                              float* __restrict wy, float* __restrict wz, float* __restrict near_w) {
+  const int row = v.width + 1, slice = row * (v.height + 1);
   for (size_t j = 0; j < n; ++j) {
     const float s = sx[j];
     const float z = c.fwd.a0 + s * c.fwd.a1;
     const float zc = z > 1e-6f ? z : 1e-6f;  // behind the froxel camera: clamp to its frustum edge
     const float inv_z = 1.0f / zc;
-    fx[j] = clamp_texel((c.right.a0 + s * c.right.a1) * inv_z * c.x_scale + c.x_bias, c.max_x);
-    fy[j] = clamp_texel((c.up.a0 + s * c.up.a1) * inv_z * c.y_scale + c.y_bias, c.max_y);
+    const float fx = clamp_texel((c.right.a0 + s * c.right.a1) * inv_z * c.x_scale + c.x_bias, c.max_x);
+    const float fy = clamp_texel((c.up.a0 + s * c.up.a1) * inv_z * c.y_scale + c.y_bias, c.max_y);
     const float d = dist[j];
     const float sz = std::sqrt(d * c.inv_extent) * c.depth - 0.5f;
-    fz[j] = clamp_texel(sz, c.max_slice);
+    const float fz = clamp_texel(sz, c.max_slice);
+    const int ix = int(fx), iy = int(fy), iz = int(fz);
+    texel[j] = iz * slice + iy * row + ix;
+    wx[j] = fx - float(ix);
+    wy[j] = fy - float(iy);
+    wz[j] = fz - float(iz);
     const float w = d * c.inv_first_slice;
     near_w[j] = sz < 0.0f ? w : 1.0f;
+  }
+}
+
+// Applies the froxels to color[index[j]] of the pixels at screen x sx[j] and
+// distance dist[j]: the footprints first, then the trilinear blends. A pixel
+// whose depth weight is 0 (closer than the first slice, or at the last) reads
+// one slice: the other would add (back - front) * 0.
+__attribute__((target_clones("avx2", "default")))
+void apply_froxels(const FroxelRow& c, const FroxelVolume& v, size_t n, const int* __restrict index,
+                   const float* __restrict sx, const float* __restrict dist, Scratch& s, const Float4& illuminance,
+                   glm::vec3* __restrict color) {
+  int* texel = s.texel.data();
+  float *wx = s.a.data(), *wy = s.b.data(), *wz = s.c.data(), *near_w = s.d.data();
+  froxel_footprints(c, v, n, sx, dist, texel, wx, wy, wz, near_w);
+  const size_t row = size_t(v.width) + 1;
+  const size_t dx = 8, dy = 8 * row, dz = 8 * row * (size_t(v.height) + 1);  // in floats
+  const Float4 one = {1.0f, 1.0f, 1.0f, 0.0f};
+  const float* texels = reinterpret_cast<const float*>(v.texels);
+  for (size_t j = 0; j < n; ++j) {
+    const float ax = wx[j], ay = wy[j], az = wz[j];
+    const Float8 x8 = {ax, ax, ax, ax, ax, ax, ax, ax}, y8 = {ay, ay, ay, ay, ay, ay, ay, ay};
+    const float* q = texels + 8 * size_t(texel[j]);
+    Float8 t;
+    bilinear8(q, dx, dy, x8, y8, t);
+    if (az != 0.0f) {
+      Float8 back;
+      bilinear8(q + dz, dx, dy, x8, y8, back);
+      const Float8 z8 = {az, az, az, az, az, az, az, az};
+      t = t + (back - t) * z8;
+    }
+    const float nw = near_w[j];
+    const Float4 near = {nw, nw, nw, nw};
+    const Float4 l = __builtin_shufflevector(t, t, 0, 1, 2, 3) * near;
+    const Float4 tr = one + (__builtin_shufflevector(t, t, 4, 5, 6, 7) - one) * near;
+    glm::vec3& out = color[index[j]];
+    const Float4 in = {out.x, out.y, out.z, 0.0f};
+    const Float4 r = in * tr + l * illuminance;
+    out = glm::vec3(r[0], r[1], r[2]);
   }
 }
 
@@ -157,21 +238,6 @@ void froxel_coordinates(const FroxelRow& c, size_t n, const float* __restrict sx
 // evaluated per pixel.
 constexpr int kBlock = 8;
 constexpr float kBlockTolerance = 3e-3f;  // relative, at the block centre: far below the LUT's own error
-
-struct Scratch {
-  std::vector<float> sx, row_sx, dist, a, b, c, d;
-  std::vector<int> sky, interp, froxel, other;
-  std::vector<glm::vec3> grid;       // exact sky at the grid points
-  std::vector<glm::vec3> edge;       // the grid interpolated to one row
-  std::vector<float> wx;             // per pixel: weight of the grid column to its right
-  std::vector<uint8_t> grid_above;   // grid point above the horizon
-  std::vector<float> grid_nu;        // cosine to the sun at the grid points
-  std::vector<uint8_t> block_exact;  // per block: evaluate every pixel
-  void resize(size_t n) {
-    for (auto* v : {&sx, &row_sx, &dist, &a, &b, &c, &d}) v->resize(n);
-    for (auto* v : {&sky, &interp, &froxel, &other}) v->resize(n);
-  }
-};
 
 // Grid coordinate i of a tile span [a, b): pixel a + i * kBlock, the last one clamped to b - 1.
 inline int grid_pixel(int a, int b, int i) { return std::min(a + i * kBlock, b - 1); }
@@ -242,7 +308,6 @@ void composite_sky(const SkyFrame& f, FrameBuffers& buffers, int x0, int y0, int
   auto screen_y = [&](float py) { return (1.0f - 2.0f * (py + 0.5f) / float(h)) * t; };
   for (size_t k = 0; k < n; ++k) s.sx[k] = screen_x(float(x0 + int(k)));
   const Float4 e = {f.sun_illuminance.x, f.sun_illuminance.y, f.sun_illuminance.z, 0.0f};
-  const Float4 one = {1.0f, 1.0f, 1.0f, 0.0f};
 
   const SkyViewLut& sv = *f.skyview;
   const SkyViewMapping& map = sv.mapping();
@@ -274,10 +339,10 @@ void composite_sky(const SkyFrame& f, FrameBuffers& buffers, int x0, int y0, int
   auto direction = [&](float px, float py) {
     return glm::normalize(cam.forward + screen_x(px) * cam.right + screen_y(py) * cam.up);
   };
-  bool any_sky = false;
-  for (int y = y0; y < y1 && !any_sky; ++y)
-    for (int x = x0; x < x1 && !any_sky; ++x) any_sky = buffers.depth[buffers.index(x, y)] == 0.0f;
-  if (any_sky) {
+  // Built when the first row with sky needs it: a tile of only geometry never does.
+  bool grid_ready = false;
+  auto build_grid = [&] {
+    grid_ready = true;
     for (int j = 0; j <= nby; ++j)
       for (int i = 0; i <= nbx; ++i) {
         const glm::vec3 dir = direction(float(grid_pixel(x0, x1, i)), float(grid_pixel(y0, y1, j)));
@@ -306,7 +371,7 @@ void composite_sky(const SkyFrame& f, FrameBuffers& buffers, int x0, int y0, int
         }
         s.block_exact[size_t(j) * size_t(nbx) + size_t(i)] = exact ? 1 : 0;
       }
-  }
+  };
 
   const AerialPerspectiveLut* ap = f.space ? nullptr : f.aerial_perspective.get();
   const float froxel_range = ap ? ap->range() : -1.0f;
@@ -338,22 +403,46 @@ void composite_sky(const SkyFrame& f, FrameBuffers& buffers, int x0, int y0, int
     const float* depth = buffers.depth.data() + row;
     const float* distance = buffers.distance.data() + row;
     glm::vec3* color = buffers.color.data() + row;
+    if (y + 1 < y1) {
+      // The next row of the tile is another stream for the hardware prefetcher: start it now.
+      const size_t next = row + size_t(w);
+      for (size_t k = 0; k < n; k += 16) {
+        __builtin_prefetch(buffers.depth.data() + next + k);
+        __builtin_prefetch(buffers.distance.data() + next + k);
+      }
+      const char* next_color = reinterpret_cast<const char*>(buffers.color.data() + next);
+      for (size_t b = 0; b < n * sizeof(glm::vec3); b += 64) __builtin_prefetch(next_color + b, 1);
+    }
     const int bj = (y - y0) / kBlock;
     const uint8_t* exact_blocks = s.block_exact.data() + size_t(bj) * size_t(nbx);
     // Split the row's pixels: sky (per pixel or interpolated), inside the froxel range, and the rest (marched).
+    // A row of geometry all inside the froxel range (the common case) needs no split.
     size_t n_sky = 0, n_interp = 0, n_froxel = 0, n_other = 0;
+    int row_sky = 0, n_special = 0;
     for (size_t k = 0; k < n; ++k) {
-      const bool sky = depth[k] == 0.0f;
-      const bool exact = sky && exact_blocks[k / kBlock] != 0;
-      const bool froxel = !sky && distance[k] <= froxel_range;
-      s.sky[n_sky] = int(k);
-      s.interp[n_interp] = int(k);
-      s.froxel[n_froxel] = int(k);
-      s.other[n_other] = int(k);
-      n_sky += exact ? 1 : 0;
-      n_interp += (sky && !exact) ? 1 : 0;
-      n_froxel += froxel ? 1 : 0;
-      n_other += (!sky && !froxel) ? 1 : 0;
+      row_sky += depth[k] == 0.0f;
+      n_special += (depth[k] == 0.0f) | !(distance[k] <= froxel_range);
+    }
+    if (row_sky > 0 && !grid_ready) build_grid();
+    const int* froxel_index = s.identity.data();
+    const float* froxel_sx = s.sx.data();
+    const float* froxel_distance = distance;
+    if (n_special == 0) {
+      n_froxel = n;
+    } else {
+      for (size_t k = 0; k < n; ++k) {
+        const bool sky = depth[k] == 0.0f;
+        const bool exact = sky && exact_blocks[k / kBlock] != 0;
+        const bool froxel = !sky && distance[k] <= froxel_range;
+        s.sky[n_sky] = int(k);
+        s.interp[n_interp] = int(k);
+        s.froxel[n_froxel] = int(k);
+        s.other[n_other] = int(k);
+        n_sky += exact ? 1 : 0;
+        n_interp += (sky && !exact) ? 1 : 0;
+        n_froxel += froxel ? 1 : 0;
+        n_other += (!sky && !froxel) ? 1 : 0;
+      }
     }
     const float len0 = glm::dot(base, base), len1 = 2.0f * glm::dot(base, cam.right),
                 len2 = glm::dot(cam.right, cam.right);
@@ -421,38 +510,16 @@ void composite_sky(const SkyFrame& f, FrameBuffers& buffers, int x0, int y0, int
       fr.fwd = RowDot(fc.forward, base, cam.right);
       fr.right = RowDot(fc.right, base, cam.right);
       fr.up = RowDot(fc.up, base, cam.right);
-      for (size_t j = 0; j < n_froxel; ++j) {
-        s.row_sx[j] = s.sx[size_t(s.froxel[j])];
-        s.dist[j] = distance[s.froxel[j]];
+      if (n_special != 0) {
+        for (size_t j = 0; j < n_froxel; ++j) {
+          s.row_sx[j] = s.sx[size_t(s.froxel[j])];
+          s.dist[j] = distance[s.froxel[j]];
+        }
+        froxel_index = s.froxel.data();
+        froxel_sx = s.row_sx.data();
+        froxel_distance = s.dist.data();
       }
-      float *fx = s.a.data(), *fy = s.b.data(), *fz = s.c.data(), *near_w = s.d.data();
-      froxel_coordinates(fr, n_froxel, s.row_sx.data(), s.dist.data(), fx, fy, fz, near_w);
-      const size_t slice = size_t(fw) * size_t(fh);
-      for (size_t j = 0; j < n_froxel; ++j) {
-        const int ix = int(fx[j]), iy = int(fy[j]), iz = int(fz[j]);
-        const size_t dx = ix + 1 < fw ? 1 : 0, dy = iy + 1 < fh ? size_t(fw) : 0, dz = iz + 1 < fd ? slice : 0;
-        const Float4 wx = Float4{} + (fx[j] - float(ix)), wy = Float4{} + (fy[j] - float(iy)),
-                     wz = Float4{} + (fz[j] - float(iz));
-        const FroxelTexel* p = froxels + size_t(iz) * slice + size_t(iy) * size_t(fw) + size_t(ix);
-        auto trilinear = [&](size_t part) {
-          const float* q = reinterpret_cast<const float*>(p) + part;
-          auto bilinear = [&](const float* r) {
-            const Float4 a = load4(r), b = load4(r + 8 * dx);
-            const Float4 c = load4(r + 8 * dy), d = load4(r + 8 * (dy + dx));
-            const Float4 top = a + (b - a) * wx, bottom = c + (d - c) * wx;
-            return top + (bottom - top) * wy;
-          };
-          const Float4 front = bilinear(q), back = bilinear(q + 8 * dz);
-          return front + (back - front) * wz;
-        };
-        const Float4 near = Float4{} + near_w[j];
-        const Float4 l = trilinear(0) * near;
-        const Float4 tr = one + (trilinear(4) - one) * near;
-        const size_t k = size_t(s.froxel[j]);
-        const Float4 c = {color[k].x, color[k].y, color[k].z, 0.0f};
-        const Float4 out = c * tr + l * e;
-        color[k] = glm::vec3(out[0], out[1], out[2]);
-      }
+      apply_froxels(fr, FroxelVolume{froxels, fw, fh}, n_froxel, froxel_index, froxel_sx, froxel_distance, s, e, color);
     }
 
     for (size_t j = 0; j < n_other; ++j) {

@@ -61,6 +61,8 @@ void SkyViewLut::bake(size_t begin, size_t end, const AtmosphereLuts& luts) {
   const double r = m.bottom_radius + double(altitude_);
   const double sin_s = std::sqrt(std::max(0.0, 1.0 - double(mu_s_) * mu_s_));
   MarchedRay ray;
+  std::vector<float> nu;
+  std::vector<ShadedRay> shaded;
   size_t i = begin;
   while (i < end) {
     const int y = int(i / size_t(w));
@@ -81,16 +83,23 @@ void SkyViewLut::bake(size_t begin, size_t end, const AtmosphereLuts& luts) {
     const int steps = variable_steps(float(t_end - t_begin), min_steps_, max_steps_);
     march(luts, altitude_, float(cos_vz), float(t_begin), float(t_end), steps, StepSpacing::Quadratic,
           t_ground >= 0.0, 0.0f, ray);
-    for (; i < row_end; ++i) {
-      const int x = int(i % size_t(w));
+    // Every longitude of the row shades that ray at once.
+    const size_t row_begin = i;
+    nu.resize(row_end - row_begin);
+    shaded.resize(row_end - row_begin);
+    for (size_t k = row_begin; k < row_end; ++k) {
+      const int x = int(k % size_t(w));
       double unused_vz, cos_lon;
       mapping_.from_unit(glm::vec2(float(x) / float(w - 1), 0.0f), unused_vz, cos_lon);
-      const double nu = sin_vz * cos_lon * sin_s + cos_vz * double(mu_s_);
-      const ShadedRay shaded = shade_split(luts, ray, mu_s_, float(std::clamp(nu, -1.0, 1.0)));
-      image_.texels[i] = shaded.rest;
-      mie_.texels[i] = shaded.mie_unphased;
-      packed_[i] = {{shaded.rest.x, shaded.rest.y, shaded.rest.z, 0.0f},
-                    {shaded.mie_unphased.x, shaded.mie_unphased.y, shaded.mie_unphased.z, 0.0f}};
+      nu[k - row_begin] = float(std::clamp(sin_vz * cos_lon * sin_s + cos_vz * double(mu_s_), -1.0, 1.0));
+    }
+    shade_split_many(luts, ray, mu_s_, nu.size(), nu.data(), shaded.data());
+    for (; i < row_end; ++i) {
+      const ShadedRay& sh = shaded[i - row_begin];
+      image_.texels[i] = sh.rest;
+      mie_.texels[i] = sh.mie_unphased;
+      packed_[i] = {{sh.rest.x, sh.rest.y, sh.rest.z, 0.0f},
+                    {sh.mie_unphased.x, sh.mie_unphased.y, sh.mie_unphased.z, 0.0f}};
     }
   }
 }

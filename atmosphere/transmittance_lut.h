@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <vector>
 
 #include <glm/glm.hpp>
 
@@ -55,6 +56,7 @@ class TransmittanceLut {
   glm::vec3 sun(float altitude, float mu_s) const { return sun(row(altitude), mu_s); }
 
   const LutImage& image() const { return image_; }
+  const float* packed() const { return packed_.data(); }  // the image as rgb + pad (see float4.h)
   const AtmosphereModel& model() const { return model_; }
   const TransmittanceMapping& mapping() const { return mapping_; }
 
@@ -64,11 +66,33 @@ class TransmittanceLut {
   int steps_ = 40;
   float sin_sun_radius_ = 0.0f;
   LutImage image_;
+  std::vector<float> packed_;
 };
 
 // Optical depth along a ray from altitude h0 with zenith cosine mu over
 // distance `length`, by `steps` midpoint samples (shared with the tests).
 glm::vec3 optical_depth(const AtmosphereModel& m, float h0, float mu, float length, int steps);
+
+// sun() up to the texel fetch, branch-free for vector loops: the LUT columns
+// x0, x1 and weight w (the row's y coordinate completes the bilinear sample)
+// and the visible fraction of the sun disk (0 in the planet's shadow; the
+// sample times it is sun()'s result, bit for bit). `width`: the LUT's.
+inline void sun_lookup(const TransmittanceRow& row, int width, float mu_s, int& x0, int& x1, float& w,
+                       float& visible) {
+  const float above = mu_s - row.mu_horizon;
+  const float s = (above + row.penumbra) / (2.0f * row.penumbra);
+  visible = above <= -row.penumbra ? 0.0f : (above >= row.penumbra ? 1.0f : s * s * (3.0f - 2.0f * s));
+  // to_top() and lut_coord(), with selects for std::clamp / std::min / std::max
+  const float mu = mu_s < row.mu_horizon ? row.mu_horizon : (1.0f < mu_s ? 1.0f : mu_s);
+  const float disc = row.r * row.r * mu * mu + row.top2_minus_r2;
+  const float d = -row.r * mu + std::sqrt(disc < 0.0f ? 0.0f : disc);
+  const float last = float(width - 1);
+  float x = (d - row.d_min) * row.inv_d_range * last;
+  x = x > 0.0f ? (x < last ? x : last) : 0.0f;
+  x0 = int(x) < width - 1 ? int(x) : width - 1;
+  x1 = x0 + 1 < width - 1 ? x0 + 1 : width - 1;
+  w = x - float(x0);
+}
 
 inline glm::vec3 TransmittanceLut::to_top(const TransmittanceRow& row, float mu) const {
   mu = std::clamp(mu, row.mu_horizon, 1.0f);

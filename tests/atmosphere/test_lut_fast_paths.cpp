@@ -1,0 +1,155 @@
+// The LUT bakes' fast paths (sky-view rows shaded in one batch, aerial
+// perspective columns marched whole, rgb + pad texel copies) give exactly the
+// results of the straightforward per-direction, per-slice formulas.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cstring>
+#include <vector>
+
+#include "atmosphere/aerial_perspective_lut.h"
+#include "atmosphere/phase_functions.h"
+#include "atmosphere/planet_geometry.h"
+#include "atmosphere/scattering_march.h"
+#include "atmosphere_test_util.h"
+
+using namespace cr;
+using namespace cr::test;
+
+namespace {
+
+bool same_bits(const glm::vec3& a, const glm::vec3& b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+bool same_bits(const float* packed, const glm::vec3& v) { return std::memcmp(packed, &v, sizeof v) == 0; }
+
+// shade_split written the plain way: one direction, LUT lookups through
+// TransmittanceLut::sun and sample_bilinear.
+ShadedRay shade_reference(const AtmosphereLuts& luts, const MarchedRay& ray, float mu_s, float nu) {
+  const float phase_r = rayleigh_phase(nu);
+  const LutImage& ms = luts.multiscattering.image();
+  const float ms_x_scale = 0.5f * float(ms.width - 1);
+  const float r0_mu_s = ray.r0 * mu_s;
+  glm::vec3 l(0.0f), mie(0.0f);
+  for (const MarchSample& s : ray.samples) {
+    const float mu_s_t = std::clamp((r0_mu_s + s.t * nu) * s.inv_r, -1.0f, 1.0f);
+    const glm::vec3 sun = luts.transmittance.sun(s.row, mu_s_t);
+    const glm::vec3 psi = sample_bilinear(ms, (mu_s_t + 1.0f) * ms_x_scale, s.ms_y);
+    l += sun * s.w_rayleigh * phase_r + psi * s.w_ms;
+    mie += sun * s.w_mie;
+  }
+  if (ray.hits_ground) {
+    const float inv_r = 1.0f / float(luts.model.bottom_radius);
+    const float mu_g = std::clamp((r0_mu_s + ray.ground_t * nu) * inv_r, -1.0f, 1.0f);
+    const glm::vec3 sun = luts.transmittance.sun(ray.ground_row, mu_g) * std::max(mu_g, 0.0f);
+    const glm::vec3 psi = sample_bilinear(ms, (mu_g + 1.0f) * ms_x_scale, 0.0f);
+    l += ray.transmittance * luts.model.ground_albedo * (sun / kPi + psi);
+  }
+  return {l, mie};
+}
+
+struct Luts {
+  JobSystem jobs{1};
+  LutScheduler scheduler{small_settings()};
+  explicit Luts(double sun_zenith_deg) {
+    run_frame(scheduler, 0, camera_at(2.0), sun_from_zenith(sun_zenith_deg), jobs);
+  }
+  AtmosphereLuts get() const {
+    return {scheduler.model(), *scheduler.multiscattering_source(), *scheduler.multiscattering()};
+  }
+};
+
+}  // namespace
+
+TEST_CASE("a sky-view row shaded in one batch equals shading each direction alone, bit for bit") {
+  for (double zenith : {30.0, 89.0, 93.0}) {  // day, sunset (the shadow's penumbra), sun below the horizon
+    const Luts l(zenith);
+    const AtmosphereLuts luts = l.get();
+    const float mu_s = float(std::cos(zenith * M_PI / 180.0));
+    // Longitudes around the sun, an odd count (the vector loop's remainder too).
+    std::vector<float> nu;
+    for (int j = 0; j < 37; ++j) nu.push_back(std::clamp(std::cos(float(j) * 0.0873f) * 0.999f, -1.0f, 1.0f));
+    nu.push_back(1.0f);
+    nu.push_back(-1.0f);
+    MarchedRay ray;
+    for (float mu : {0.7f, 0.02f, -0.3f}) {  // up, grazing, into the ground
+      const double r = luts.model.bottom_radius + 2.0;
+      const double t_ground = distance_to_ground(r, mu, luts.model.bottom_radius);
+      const bool ground = t_ground >= 0.0;
+      const double t_end = ground ? t_ground : distance_to_sphere_exit(r, mu, luts.model.top_radius);
+      march(luts, 2.0f, mu, 0.0f, float(t_end), 11, StepSpacing::Quadratic, ground, 0.0f, ray);
+      std::vector<ShadedRay> batch(nu.size());
+      shade_split_many(luts, ray, mu_s, nu.size(), nu.data(), batch.data());
+      for (size_t j = 0; j < nu.size(); ++j) {
+        CAPTURE(zenith);
+        CAPTURE(mu);
+        CAPTURE(nu[j]);
+        const ShadedRay ref = shade_reference(luts, ray, mu_s, nu[j]);
+        const ShadedRay one = shade_split(luts, ray, mu_s, nu[j]);
+        CHECK(same_bits(batch[j].rest, ref.rest));
+        CHECK(same_bits(batch[j].mie_unphased, ref.mie_unphased));
+        CHECK(same_bits(one.rest, ref.rest));
+        CHECK(same_bits(one.mie_unphased, ref.mie_unphased));
+      }
+    }
+  }
+}
+
+TEST_CASE("an aerial-perspective column marched at once equals marching it slice by slice, bit for bit") {
+  const Luts l(60.0);
+  const AtmosphereLuts luts = l.get();
+  // A camera 5 m up looking slightly down: some froxels under the ground are pushed up.
+  const Camera cam = camera_at(5.0, 0.0, 20.0);
+  AtmosphereFrameInputs in = frame_inputs(luts.model, planet_offset(scene_config(luts.model)), 0, cam,
+                                          sun_from_zenith(60.0));
+  const int w = 8, h = 8, depth = 8, steps = 2;
+  AerialPerspectiveLut ap(w, h, depth, 4.0f, steps, in.camera);
+  ap.bake(0, ap.column_count(), luts);
+  const FroxelCamera& c = ap.camera();
+  const double r0 = glm::length(c.position);
+  const glm::dvec3 up = c.position / r0;
+  const float h0 = float(r0 - luts.model.bottom_radius);
+  const float mu_s = float(glm::dot(glm::dvec3(c.sun_direction), up));
+  MarchedRay ray;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const glm::vec3 dir = c.column_direction(float(x) + 0.5f, float(y) + 0.5f, w, h);
+      const float mu = float(glm::dot(glm::dvec3(dir), up));
+      const float nu = std::clamp(glm::dot(dir, c.sun_direction), -1.0f, 1.0f);
+      glm::vec3 lum(0.0f), tr(1.0f);
+      float t_begin = 0.0f;
+      for (int s = 0; s < depth; ++s) {
+        const float t_end = ap.slice_distance(s);
+        march(luts, std::max(h0, 0.0f), mu, t_begin, t_end, steps, StepSpacing::Uniform, false,
+              std::clamp(h0, 0.0f, 10.0f), ray);
+        lum += tr * shade(luts, ray, mu_s, nu);
+        tr *= ray.transmittance;
+        t_begin = t_end;
+        CAPTURE(x);
+        CAPTURE(y);
+        CAPTURE(s);
+        CHECK(same_bits(ap.luminance().at(x, y, s), lum));
+        CHECK(same_bits(ap.transmittance().at(x, y, s), tr));
+      }
+    }
+}
+
+TEST_CASE("packed texel copies equal the LUT images, the froxel padding repeats the last column and row") {
+  const Luts l(45.0);
+  const AtmosphereLuts luts = l.get();
+  const LutImage& t = luts.transmittance.image();
+  for (size_t i = 0; i < t.count(); ++i) REQUIRE(same_bits(luts.transmittance.packed() + 4 * i, t.texels[i]));
+  const LutImage& ms = luts.multiscattering.image();
+  for (size_t i = 0; i < ms.count(); ++i) REQUIRE(same_bits(luts.multiscattering.packed() + 4 * i, ms.texels[i]));
+
+  const AerialPerspectiveLut& ap = *l.scheduler.aerial_perspective();
+  const int w = ap.luminance().width, h = ap.luminance().height, d = ap.luminance().depth;
+  REQUIRE(ap.packed().size() == size_t(w + 1) * size_t(h + 1) * size_t(d));
+  for (int z = 0; z < d; ++z)
+    for (int y = 0; y <= h; ++y)
+      for (int x = 0; x <= w; ++x) {
+        const FroxelTexel& p = ap.packed()[ap.packed_index(x, y, z)];
+        const int sx = std::min(x, w - 1), sy = std::min(y, h - 1);
+        REQUIRE(same_bits(p.luminance, ap.luminance().at(sx, sy, z)));
+        REQUIRE(same_bits(p.transmittance, ap.transmittance().at(sx, sy, z)));
+      }
+}
