@@ -1,5 +1,6 @@
 #include "atmosphere/sky_lighting.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "atmosphere/phase_functions.h"
@@ -25,11 +26,20 @@ void fill_light_environment(const SkyFrame& f, LightEnvironment& light) {
   const glm::vec3 e = f.sun_illuminance;
   const double ground = f.model.bottom_radius;
   light.sun_at = [lut, offset, sun, e, ground](const glm::vec3* world_pos, glm::vec3* out, size_t n) {
-    for (size_t i = 0; i < n; ++i) {
-      const glm::dvec3 p = glm::dvec3(world_pos[i]) + offset;
-      const double r = glm::length(p);
-      const float mu_s = float(glm::dot(p, glm::dvec3(sun)) / r);
-      out[i] = e * lut->sun(float(r - ground), mu_s);
+    // Altitude and sun cosine of a chunk of points first, in a loop the
+    // compiler vectorises, then the LUT lookups.
+    constexpr size_t kChunk = 64;
+    float altitude[kChunk], mu_s[kChunk];
+    const glm::dvec3 s(sun);
+    for (size_t begin = 0; begin < n; begin += kChunk) {
+      const size_t count = std::min(kChunk, n - begin);
+      for (size_t i = 0; i < count; ++i) {
+        const glm::dvec3 p = glm::dvec3(world_pos[begin + i]) + offset;
+        const double r = std::sqrt(p.x * p.x + p.y * p.y + p.z * p.z);
+        altitude[i] = float(r - ground);
+        mu_s[i] = float((p.x * s.x + p.y * s.y + p.z * s.z) / r);
+      }
+      for (size_t i = 0; i < count; ++i) out[begin + i] = e * lut->sun(altitude[i], mu_s[i]);
     }
   };
 }
