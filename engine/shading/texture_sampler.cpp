@@ -110,7 +110,9 @@ TextureFootprint::Level level_footprint(const MipLevel& m, int index, float ru, 
   return f;
 }
 
-glm::vec4 sample_level_footprint(const Image& image, const TexelDecoder& decode,
+// Always inlined: a glm::vec4 returned by value is split across two registers
+// through the stack, and the reload stalls on the store.
+[[gnu::always_inline]] inline glm::vec4 sample_level_footprint(const Image& image, const TexelDecoder& decode,
                                  const TextureFootprint::Level& f) {
   const MipLevel& m = image.mips[size_t(f.index)];
   const glm::vec4 top = glm::mix(decode(m, f.texel[0]), decode(m, f.texel[1]), f.ax);
