@@ -78,35 +78,47 @@ std::vector<VolumeFootprint> volume_footprints(const FroxelView& view, const Fog
   return out;
 }
 
+DensityPlan plan_density(const FroxelView& view, const FogMedium& medium) {
+  const FroxelGrid& g = view.grid;
+  DensityPlan plan;
+  plan.footprints = volume_footprints(view, medium);
+  plan.centers.resize(size_t(g.nz()));
+  for (int k = 0; k < g.nz(); ++k) plan.centers[size_t(k)] = g.center(k);
+  plan.stats.visible_volumes = int(plan.footprints.size());
+  for (const VolumeFootprint& f : plan.footprints)
+    plan.stats.volume_froxels += size_t(f.x1 - f.x0 + 1) * size_t(f.y1 - f.y0 + 1) * size_t(f.k1 - f.k0 + 1);
+  return plan;
+}
+
+void voxelize_rows(const FroxelView& view, const FogMedium& medium, const DensityPlan& plan, int y0, int y1,
+                   std::vector<FogDensity>& density) {
+  const FroxelGrid& g = view.grid;
+  const int nx = g.nx();
+  const float* centers = plan.centers.data();
+  for (int y = y0; y < y1; ++y)
+    for (int x = 0; x < nx; ++x) {
+      const size_t c = size_t(y) * nx + x;
+      const glm::vec3 dir = view.directions[c];
+      const int n = view.lit_slices[c];
+      FogDensity* column = density.data() + g.index(x, y, 0);
+      medium.height_fog_column(dir, centers, n, column);
+      // Volumes in file order: the blend result does not depend on scheduling.
+      for (const VolumeFootprint& f : plan.footprints) {
+        if (x < f.x0 || x > f.x1 || y < f.y0 || y > f.y1) continue;
+        const PlacedFogVolume& v = medium.volumes()[size_t(f.volume)];
+        for (int k = f.k0; k <= std::min(f.k1, n - 1); ++k) medium.apply_volume(v, dir * centers[k], column[k]);
+      }
+    }
+}
+
 VoxelizeStats voxelize_density(const FroxelView& view, const FogMedium& medium, JobSystem& jobs,
                                std::vector<FogDensity>& density) {
-  const FroxelGrid& g = view.grid;
-  density.resize(g.count());
-  const std::vector<VolumeFootprint> footprints = volume_footprints(view, medium);
-  const int nx = g.nx(), nz = g.nz();
-  std::vector<float> centers(static_cast<size_t>(nz));
-  for (int k = 0; k < nz; ++k) centers[size_t(k)] = g.center(k);
-  jobs.parallel_for("fog.density", size_t(g.ny()), 1, [&](size_t begin, size_t end) {
-    for (int y = int(begin); y < int(end); ++y)
-      for (int x = 0; x < nx; ++x) {
-        const size_t c = size_t(y) * nx + x;
-        const glm::vec3 dir = view.directions[c];
-        const int n = view.lit_slices[c];
-        FogDensity* column = density.data() + g.index(x, y, 0);
-        medium.height_fog_column(dir, centers.data(), n, column);
-        // Volumes in file order: the blend result does not depend on scheduling.
-        for (const VolumeFootprint& f : footprints) {
-          if (x < f.x0 || x > f.x1 || y < f.y0 || y > f.y1) continue;
-          const PlacedFogVolume& v = medium.volumes()[size_t(f.volume)];
-          for (int k = f.k0; k <= std::min(f.k1, n - 1); ++k) medium.apply_volume(v, dir * centers[size_t(k)], column[k]);
-        }
-      }
+  density.resize(view.grid.count());
+  const DensityPlan plan = plan_density(view, medium);
+  jobs.parallel_for("fog.density", size_t(view.grid.ny()), 1, [&](size_t begin, size_t end) {
+    voxelize_rows(view, medium, plan, int(begin), int(end), density);
   });
-  VoxelizeStats stats;
-  stats.visible_volumes = int(footprints.size());
-  for (const VolumeFootprint& f : footprints)
-    stats.volume_froxels += size_t(f.x1 - f.x0 + 1) * size_t(f.y1 - f.y0 + 1) * size_t(f.k1 - f.k0 + 1);
-  return stats;
+  return plan.stats;
 }
 
 }  // namespace cr

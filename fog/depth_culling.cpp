@@ -1,6 +1,8 @@
 // Depth-aware froxel culling: per column, the slices any pixel can read.
 #include <algorithm>
 
+#include <xmmintrin.h>
+
 #include "fog/froxel_passes.h"
 
 namespace cr {
@@ -34,11 +36,21 @@ void cull_froxels_by_depth(FroxelView& view, const std::vector<float>& distance,
     for (int ty = int(begin); ty < int(end); ++ty)
       for (int tx = 0; tx < nx; ++tx) {
         // NaN distances are never composited: the comparison skips them.
+        // Four running maxima with SSE (max_ps(a, b) is "a > b ? a : b",
+        // NaN in a gives b): a max is exact in any order, and the only pair
+        // an order could pick differently, +0 and -0, fails "> near" alike.
+        __m128 lanes = _mm_setzero_ps();
         float farthest = 0.0f;
+        const int xa = tx * s, xb = std::min((tx + 1) * s, w);
         for (int y = ty * s; y < std::min((ty + 1) * s, h); ++y) {
           const float* row = distance.data() + size_t(y) * w;
-          for (int x = tx * s; x < std::min((tx + 1) * s, w); ++x) farthest = row[x] > farthest ? row[x] : farthest;
+          int x = xa;
+          for (; x + 4 <= xb; x += 4) lanes = _mm_max_ps(_mm_loadu_ps(row + x), lanes);
+          for (; x < xb; ++x) farthest = row[x] > farthest ? row[x] : farthest;
         }
+        alignas(16) float lane[4];
+        _mm_store_ps(lane, lanes);
+        for (float v : lane) farthest = v > farthest ? v : farthest;
         needed[size_t(ty) * nx + tx] =
             farthest > g.near_distance() ? uint16_t(g.slice_of(farthest) + 1) : uint16_t(0);
       }

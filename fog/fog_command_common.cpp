@@ -60,10 +60,10 @@ std::vector<glm::vec3> froxel_frame(FroxelFog& fog, const FrameView& view, const
   FroxelTimes t;
   auto t0 = std::chrono::steady_clock::now();
   fog.begin_frame(view, jobs, &base.buffers().distance);
-  fog.density(jobs);
+  fog.density();
   t.density = ms_since(t0);
   t0 = std::chrono::steady_clock::now();
-  fog.lighting(base.light_environment(), base.shadow_map(), jobs);
+  fog.lighting(base.shadow_map(), jobs);
   t.lighting = ms_since(t0);
   t0 = std::chrono::steady_clock::now();
   fog.reproject(jobs);

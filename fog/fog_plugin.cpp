@@ -25,14 +25,14 @@ void FogPlugin::add_passes(FrameGraph& graph, FrameContext& ctx) {
       "fog.density", [](FrameGraph::Builder& b) { b.read("depth").write("fog.density"); },
       [fog, c] {
         fog->begin_frame(c->view, c->jobs, &c->buffers.distance);
-        fog->density(c->jobs);
+        fog->density();
       });
   graph.add_pass(
       "fog.lighting",
       [](FrameGraph::Builder& b) {
-        b.read("fog.density").read("shadow_map").read("light_environment").write("fog.lighting");
+        b.read("fog.density").read("shadow_map").write("fog.lighting");
       },
-      [fog, c] { fog->lighting(c->light, c->shadow, c->jobs); });
+      [fog, c] { fog->lighting(c->shadow, c->jobs); });
   std::string sun = "fog.lighting";
   if (p.reprojection) {
     graph.add_pass(

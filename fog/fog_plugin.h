@@ -2,8 +2,8 @@
 // The froxel fog as an engine plugin ("fog"): validates the scene's and the
 // profile's "fog" sections, declares the passes fog.density (reads depth, for
 // depth-aware froxel culling) -> fog.lighting
-// (reads shadow_map, light_environment) -> fog.reproject -> fog.filter ->
-// fog.integrate (writes fog.volume), and composites per pixel after the
+// (reads shadow_map) -> fog.reproject -> fog.filter -> fog.integrate (reads
+// light_environment, writes fog.volume), and composites per pixel after the
 // atmosphere (order 200). A scene without a "fog" section adds no pass.
 #include <memory>
 #include <string>

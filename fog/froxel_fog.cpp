@@ -21,26 +21,27 @@ void FroxelFog::begin_frame(const FrameView& view, JobSystem& jobs, const std::v
   }
 }
 
-void FroxelFog::density(JobSystem& jobs) { stats_.voxelize = voxelize_density(view_, medium_, jobs, density_); }
+void FroxelFog::density() {
+  density_plan_ = plan_density(view_, medium_);
+  stats_.voxelize = density_plan_.stats;
+  density_.resize(view_.grid.count());
+}
 
-void FroxelFog::lighting(const LightEnvironment& light, const ShadowMap& shadow, JobSystem& jobs) {
-  SunLightingInputs sun;
-  sun.direction = light.sun_direction;
-  sun.illuminance = light.sun_illuminance;
-  sun.light = &light;
-  sun.camera_position = view_.camera.position;
+void FroxelFog::lighting(const ShadowMap& shadow, JobSystem& jobs) {
   JitterInputs jitter;
   jitter.enabled = profile_.jitter;
   jitter.frame = frame_;
   jitter.samples = lighting_samples_;
   const VolumeShadow volume_shadow(shadow, view_.camera.position);
-  light_froxels(view_, density_, sun, volume_shadow, jitter, jobs, sun_current_);
+  // Each job voxelises its rows right before lighting them (in cache).
+  light_froxels(view_, density_, volume_shadow, jitter, jobs, sun_current_,
+                [this](int y0, int y1) { voxelize_rows(view_, medium_, density_plan_, y0, y1, density_); });
   blended_ = -1;
 }
 
 void FroxelFog::reproject(JobSystem& jobs) {
   if (!profile_.reprojection) return;
-  std::vector<glm::vec3>& out = history_[current_];
+  std::vector<float>& out = history_[current_];
   if (use_history_) {
     stats_.reproject = reproject_history(view_, sun_current_, history_view_, history_[1 - current_],
                                          profile_.history_weight, profile_.history_clamp, jobs, out);
@@ -62,8 +63,11 @@ void FroxelFog::integrate(const LightEnvironment& light, JobSystem& jobs) {
   m.phase = scene_.phase;
   m.anisotropy = scene_.anisotropy;
   m.sun_direction = light.sun_direction;
+  m.sun_illuminance = light.sun_illuminance;
+  m.light = &light;
+  m.camera_position = view_.camera.position;
   m.ambient_sh = light.ambient_sh;
-  integrate_columns(view_, density_, sun_light(), m, jobs, volume_);
+  integrate_columns(view_, density_, sun_visibility(), m, jobs, volume_);
 }
 
 void FroxelFog::composite(FrameBuffers& buffers, int x0, int y0, int x1, int y1) const {
@@ -73,8 +77,8 @@ void FroxelFog::composite(FrameBuffers& buffers, int x0, int y0, int x1, int y1)
 void FroxelFog::render(const FrameView& view, const LightEnvironment& light, const ShadowMap& shadow,
                        JobSystem& jobs, const std::vector<float>* distance) {
   begin_frame(view, jobs, distance);
-  density(jobs);
-  lighting(light, shadow, jobs);
+  density();
+  lighting(shadow, jobs);
   reproject(jobs);
   filter(jobs);
   integrate(light, jobs);

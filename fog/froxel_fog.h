@@ -3,7 +3,9 @@
 // froxel buffers and the double-buffered history. The plugin runs its steps as
 // frame-graph passes; tests and commands run them directly. Steps of a frame
 // run in order: begin_frame, density, lighting, reproject, filter, integrate,
-// then composite (any pixel rectangles, concurrently).
+// then composite (any pixel rectangles, concurrently). density plans the
+// voxelisation (volume footprints); lighting writes the density of each row
+// of columns right before it lights the row, so the row is read from cache.
 #include <vector>
 
 #include "engine/core/job_system.h"
@@ -33,8 +35,8 @@ class FroxelFog {
   // depth-aware culling; null keeps every froxel. The composite must then be
   // given the same distances.
   void begin_frame(const FrameView& view, JobSystem& jobs, const std::vector<float>* distance = nullptr);
-  void density(JobSystem& jobs);
-  void lighting(const LightEnvironment& light, const ShadowMap& shadow, JobSystem& jobs);
+  void density();
+  void lighting(const ShadowMap& shadow, JobSystem& jobs);
   void reproject(JobSystem& jobs);
   void filter(JobSystem& jobs);
   void integrate(const LightEnvironment& light, JobSystem& jobs);
@@ -55,14 +57,14 @@ class FroxelFog {
   const FroxelGrid& grid() const { return view_.grid; }
   const FroxelView& view() const { return view_; }
   const std::vector<FogDensity>& density_volume() const { return density_; }
-  // The sun term the integration uses (after reprojection and filter).
-  const std::vector<glm::vec3>& sun_light() const { return profile_.filter ? filtered_ : blended(); }
+  // The sun visibility the integration uses (after reprojection and filter).
+  const std::vector<float>& sun_visibility() const { return profile_.filter ? filtered_ : blended(); }
   // Valid in each column's active slices (view().active_slices).
   const std::vector<IntegratedFroxel>& volume() const { return volume_; }
   const FroxelFogStats& stats() const { return stats_; }
 
  private:
-  const std::vector<glm::vec3>& blended() const { return blended_ < 0 ? sun_current_ : history_[blended_]; }
+  const std::vector<float>& blended() const { return blended_ < 0 ? sun_current_ : history_[blended_]; }
 
   FogProfileSettings profile_;
   FogSceneSettings scene_;
@@ -72,12 +74,13 @@ class FroxelFog {
   bool use_history_ = false;
   bool have_history_ = false;
   int lighting_samples_ = 1;
+  DensityPlan density_plan_;
   std::vector<FogDensity> density_;
-  std::vector<glm::vec3> sun_current_;
-  std::vector<glm::vec3> history_[2];  // [current_] written this frame, the other read
+  std::vector<float> sun_current_;
+  std::vector<float> history_[2];  // [current_] written this frame, the other read
   int current_ = 0;
   FroxelView history_view_;
-  std::vector<glm::vec3> scratch_, filtered_;
+  std::vector<float> scratch_, filtered_;
   int blended_ = -1;  // the reprojection's output: history_[blended_], or sun_current_ when -1
   std::vector<IntegratedFroxel> volume_;
   FroxelFogStats stats_;

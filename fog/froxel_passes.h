@@ -6,8 +6,8 @@
 //
 // Data per froxel (column-major, see FroxelGrid):
 //   density    FogDensity: scattering RGB and extinction at the froxel centre
-//   sun        RGB: sun illuminance x shadow visibility at an importance-
-//              sampled point of the froxel, *without* the phase function
+//   sun        float: the sun's shadow visibility at an importance-sampled
+//              point of the froxel (no illuminance, no phase function)
 //   volume     IntegratedFroxel: in-scattered radiance and transmittance from
 //              the near plane to the froxel's far boundary, and its extinction
 #include <array>
@@ -63,26 +63,35 @@ struct VoxelizeStats {
   size_t volume_froxels = 0;  // froxels whose footprint a volume covers
 };
 // fog.density: height fog in every lit froxel, then each visible volume in its
-// footprint (lit froxels only).
+// footprint (lit froxels only). In steps: the frame's plan (footprints, slice
+// centres), then any rows of columns (the plugin voxelises each row right
+// before lighting it, while the row is in cache; see light_froxels).
+struct DensityPlan {
+  std::vector<VolumeFootprint> footprints;
+  std::vector<float> centers;  // per slice: its centre distance
+  VoxelizeStats stats;
+};
+DensityPlan plan_density(const FroxelView& view, const FogMedium& medium);
+// Rows [y0, y1) of `density` (sized to the grid by the caller).
+void voxelize_rows(const FroxelView& view, const FogMedium& medium, const DensityPlan& plan, int y0, int y1,
+                   std::vector<FogDensity>& density);
+// All rows, in parallel.
 VoxelizeStats voxelize_density(const FroxelView& view, const FogMedium& medium, JobSystem& jobs,
                                std::vector<FogDensity>& density);
 
-struct SunLightingInputs {
-  glm::vec3 direction{0.0f, 1.0f, 0.0f};  // towards the sun
-  glm::vec3 illuminance{0.0f};
-  const LightEnvironment* light = nullptr;  // per-point illuminance (sun_at) when set
-  glm::dvec3 camera_position{0.0};
-};
 struct JitterInputs {
   bool enabled = true;
   int frame = 0;    // index into the 7-frame sequence
   int samples = 1;  // > 1: average this many consecutive sequence samples (non-temporal reference)
 };
-// fog.lighting: phase-free sun light at the importance-sampled jittered point,
-// for lit froxels with scattering (clear air gets 0: nothing multiplies it).
-void light_froxels(const FroxelView& view, const std::vector<FogDensity>& density, const SunLightingInputs& sun,
-                   const VolumeShadow& shadow, const JitterInputs& jitter, JobSystem& jobs,
-                   std::vector<glm::vec3>& sun_light);
+// fog.lighting: the sun's shadow visibility at the importance-sampled
+// jittered point, for lit froxels with scattering (clear air gets 0: nothing
+// multiplies it). before_rows (optional) runs on each job's rows [y0, y1)
+// before they are lit: the voxelisation, so the density the lighting reads
+// is still in cache.
+void light_froxels(const FroxelView& view, const std::vector<FogDensity>& density, const VolumeShadow& shadow,
+                   const JitterInputs& jitter, JobSystem& jobs, std::vector<float>& sun_visibility,
+                   const std::function<void(int y0, int y1)>& before_rows = nullptr);
 
 // fog.reproject: out = lerp(current, history(reprojected centre), weight);
 // history is rejected outside the previous grid (frustum and depth range) or
@@ -93,14 +102,14 @@ struct ReprojectStats {
   bool identity = false;       // same camera: history read in place
   size_t rejected = 0;         // froxels without history
 };
-ReprojectStats reproject_history(const FroxelView& view, const std::vector<glm::vec3>& current,
-                                 const FroxelView& history_view, const std::vector<glm::vec3>& history,
-                                 float history_weight, bool clamp, JobSystem& jobs, std::vector<glm::vec3>& out);
+ReprojectStats reproject_history(const FroxelView& view, const std::vector<float>& current,
+                                 const FroxelView& history_view, const std::vector<float>& history,
+                                 float history_weight, bool clamp, JobSystem& jobs, std::vector<float>& out);
 
 // fog.filter: 3x3 Gaussian (sigma 1 froxel) in each slice, separable, clamped
 // at the edges; produces the active slices of each column.
-void filter_slices(const FroxelView& view, const std::vector<glm::vec3>& in, JobSystem& jobs,
-                   std::vector<glm::vec3>& scratch, std::vector<glm::vec3>& out);
+void filter_slices(const FroxelView& view, const std::vector<float>& in, JobSystem& jobs, std::vector<float>& scratch,
+                   std::vector<float>& out);
 
 struct IntegratedFroxel {
   glm::vec3 in_scatter{0.0f};  // radiance added between the near plane and the far boundary
@@ -111,13 +120,16 @@ struct MediumLighting {
   FogPhase phase = FogPhase::HenyeyGreenstein;
   float anisotropy = 0.0f;
   glm::vec3 sun_direction{0.0f, 1.0f, 0.0f};
+  glm::vec3 sun_illuminance{0.0f};
+  const LightEnvironment* light = nullptr;  // per-point illuminance (sun_at) when set
+  glm::dvec3 camera_position{0.0};
   std::array<glm::vec3, 9> ambient_sh{};
 };
 // fog.integrate: front-to-back per column over its active slices. The phase
-// function is applied here at the column's centre direction (never jittered,
-// never reprojected).
+// function and the sun's illuminance are applied here at the column's centre
+// direction (never jittered, never reprojected).
 void integrate_columns(const FroxelView& view, const std::vector<FogDensity>& density,
-                       const std::vector<glm::vec3>& sun_light, const MediumLighting& lighting, JobSystem& jobs,
+                       const std::vector<float>& sun_visibility, const MediumLighting& lighting, JobSystem& jobs,
                        std::vector<IntegratedFroxel>& volume);
 
 // Composite of pixels [x0,x1) x [y0,y1): colour = colour * T + L at the

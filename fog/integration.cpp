@@ -1,9 +1,12 @@
 // fog.integrate: front-to-back integration along each column. Inside a froxel
 // the medium is homogeneous (extinction sigma, scattering sigma_s) and the
-// source J = sigma_s (phase * sun + ambient) is constant, so one slice of
-// length dt adds T * J (1 - exp(-sigma dt)) / sigma and multiplies T by
-// exp(-sigma dt) (exact, no step-size error). The phase function and the
-// phase-convolved SH ambient use the column's centre direction.
+// source J = sigma_s (phase * E_sun * visibility + ambient) is constant, so one
+// slice of length dt adds T * J (1 - exp(-sigma dt)) / sigma and multiplies T
+// by exp(-sigma dt) (exact, no step-size error). The phase function, the
+// phase-convolved SH ambient and the sun's illuminance use the column's centre
+// direction; the illuminance varies slowly (atmospheric transmittance with
+// altitude), so it is evaluated at the column's first and last slice centres
+// (one sun_at batch per row of columns) and interpolated in distance.
 #include <algorithm>
 #include <cmath>
 
@@ -13,49 +16,128 @@
 
 namespace cr {
 
+namespace {
+
+// Per-slice terms of one column, independent of each other (flat loops over
+// SoA scratch, vectorised; the AVX2 clone runs the same float operations):
+// opacity 1 - exp(-x) and the slice's weight (1 - exp(-x)) / sigma (its limit
+// dt for x -> 0; the division runs for every slice, on a sigma kept off zero,
+// so the loop has no branch), and the source sigma_s (phase E_sun V + ambient)
+// split into RGB.
+struct ColumnTerms {
+  std::vector<float> opacity, weight, r, g, b;
+  explicit ColumnTerms(int nz)
+      : opacity(size_t(nz)), weight(size_t(nz)), r(size_t(nz)), g(size_t(nz)), b(size_t(nz)) {}
+};
+
+struct ColumnLight {
+  glm::vec3 e0, de;  // sun illuminance at t_first and its slope in t
+  float t_first;
+  float phase;
+  glm::vec3 ambient;
+};
+
+__attribute__((target_clones("avx2", "default"))) void column_terms(const FogDensity* __restrict d,
+                                                                      const float* __restrict visibility,
+                                                                      const float* __restrict dt,
+                                                                      const float* __restrict center, int n,
+                                                                      const ColumnLight& light, ColumnTerms& out) {
+  float* __restrict opacity = out.opacity.data();
+  float* __restrict weight = out.weight.data();
+  float* __restrict r = out.r.data();
+  float* __restrict g = out.g.data();
+  float* __restrict b = out.b.data();
+  const glm::vec3 e0 = light.e0, de = light.de, ambient = light.ambient;
+  const float t_first = light.t_first, phase = light.phase;
+  // FogDensity as flat floats (scattering RGB, extinction), so the loads
+  // vectorise as a 4-way interleave.
+  static_assert(sizeof(FogDensity) == 4 * sizeof(float));
+  const float* __restrict m = reinterpret_cast<const float*>(d);
+  for (int k = 0; k < n; ++k) {
+    const float sigma = m[4 * k + 3];
+    const float optical = sigma * dt[k];
+    const float o = opacity_of(optical);
+    opacity[k] = o;
+    const float ratio = o / std::max(sigma, 1e-30f);
+    weight[k] = optical > 1e-6f ? ratio : dt[k];
+    const float along = center[k] - t_first;
+    const float vp = visibility[k] * phase;
+    r[k] = m[4 * k] * (std::max(e0.x + de.x * along, 0.0f) * vp + ambient.x);
+    g[k] = m[4 * k + 1] * (std::max(e0.y + de.y * along, 0.0f) * vp + ambient.y);
+    b[k] = m[4 * k + 2] * (std::max(e0.z + de.z * along, 0.0f) * vp + ambient.z);
+  }
+}
+
+}  // namespace
+
 void integrate_columns(const FroxelView& view, const std::vector<FogDensity>& density,
-                       const std::vector<glm::vec3>& sun_light, const MediumLighting& lighting, JobSystem& jobs,
+                       const std::vector<float>& sun_visibility, const MediumLighting& lighting, JobSystem& jobs,
                        std::vector<IntegratedFroxel>& volume) {
   const FroxelGrid& g = view.grid;
   volume.resize(g.count());
   const int nx = g.nx(), nz = g.nz();
-  std::vector<float> dt(static_cast<size_t>(nz));
-  for (int k = 0; k < nz; ++k) dt[size_t(k)] = g.thickness(k);
+  std::vector<float> dt(static_cast<size_t>(nz)), center(static_cast<size_t>(nz));
+  for (int k = 0; k < nz; ++k) {
+    dt[size_t(k)] = g.thickness(k);
+    center[size_t(k)] = g.center(k);
+  }
+  const float t_first = g.center(0), t_last = g.center(nz - 1);
   const std::array<float, 3> zonal = phase_zonal_coefficients(lighting.phase, lighting.anisotropy);
+  const bool sun_at = lighting.light && lighting.light->sun_at;
   jobs.parallel_for("fog.integrate", size_t(g.ny()), 1, [&](size_t begin, size_t end) {
-    std::vector<float> opacity(static_cast<size_t>(nz)), weight(static_cast<size_t>(nz));
-    for (int y = int(begin); y < int(end); ++y)
+    ColumnTerms terms(nz);
+    // Per row of columns: the sun's illuminance at each column's ends. It
+    // varies slowly across columns too, so sun_at runs for every
+    // kSunStride-th column (and the last) and the columns between lerp.
+    constexpr int kSunStride = 8;
+    const int knots = (nx - 1) / kSunStride + 2;
+    std::vector<glm::vec3> ends(size_t(knots) * 2), knot_e(size_t(knots) * 2, lighting.sun_illuminance);
+    std::vector<glm::vec3> e(size_t(nx) * 2, lighting.sun_illuminance);
+    for (int y = int(begin); y < int(end); ++y) {
+      if (sun_at) {
+        for (int i = 0; i < knots; ++i) {
+          const glm::vec3 dir = view.directions[size_t(y) * nx + size_t(std::min(i * kSunStride, nx - 1))];
+          ends[size_t(i) * 2] = glm::vec3(lighting.camera_position + glm::dvec3(dir * t_first));
+          ends[size_t(i) * 2 + 1] = glm::vec3(lighting.camera_position + glm::dvec3(dir * t_last));
+        }
+        lighting.light->sun_at(ends.data(), knot_e.data(), ends.size());
+        for (int x = 0; x < nx; ++x) {
+          const int i = x / kSunStride, x0 = i * kSunStride, x1 = std::min(x0 + kSunStride, nx - 1);
+          const float a = x1 > x0 ? float(x - x0) / float(x1 - x0) : 0.0f;
+          for (size_t j = 0; j < 2; ++j) {
+            const glm::vec3 lo = knot_e[size_t(i) * 2 + j], hi = knot_e[size_t(i + 1) * 2 + j];
+            e[size_t(x) * 2 + j] = lo + (hi - lo) * a;
+          }
+        }
+      }
       for (int x = 0; x < nx; ++x) {
         const size_t c = size_t(y) * nx + x;
         const int n = view.active_slices[c];
         if (n == 0) continue;
         const glm::vec3 dir = view.directions[c];
-        const float phase =
-            evaluate_phase(lighting.phase, lighting.anisotropy, glm::dot(dir, lighting.sun_direction));
-        const glm::vec3 ambient = phase_convolved_ambient(lighting.ambient_sh, zonal, dir);
+        ColumnLight light;
+        light.e0 = e[size_t(x) * 2];
+        light.de = nz > 1 ? (e[size_t(x) * 2 + 1] - light.e0) / (t_last - t_first) : glm::vec3(0.0f);
+        light.t_first = t_first;
+        light.phase = evaluate_phase(lighting.phase, lighting.anisotropy, glm::dot(dir, lighting.sun_direction));
+        light.ambient = phase_convolved_ambient(lighting.ambient_sh, zonal, dir);
         const size_t base = g.index(x, y, 0);
         const FogDensity* d = density.data() + base;
-        // Per slice, independent of the others (vectorised): opacity and the
-        // slice's weight (1 - exp(-x)) / sigma, with its limit dt for x -> 0.
-        for (int k = 0; k < n; ++k) {
-          const float sigma = d[k].extinction;
-          const float optical = sigma * dt[size_t(k)];
-          const float o = opacity_of(optical);
-          opacity[size_t(k)] = o;
-          weight[size_t(k)] = optical > 1e-6f ? o / sigma : dt[size_t(k)];
-        }
+        column_terms(d, sun_visibility.data() + base, dt.data(), center.data(), n, light, terms);
         // The front-to-back recurrence.
-        const glm::vec3* sun = sun_light.data() + base;
         IntegratedFroxel* out = volume.data() + base;
         glm::vec3 in_scatter(0.0f);
         float transmittance = 1.0f;
         for (int k = 0; k < n; ++k) {
-          const glm::vec3 source = d[k].scattering * (sun[k] * phase + ambient);
-          in_scatter += source * (transmittance * weight[size_t(k)]);
-          transmittance *= 1.0f - opacity[size_t(k)];
+          const float tw = transmittance * terms.weight[size_t(k)];
+          in_scatter.x += terms.r[size_t(k)] * tw;
+          in_scatter.y += terms.g[size_t(k)] * tw;
+          in_scatter.z += terms.b[size_t(k)] * tw;
+          transmittance *= 1.0f - terms.opacity[size_t(k)];
           out[k] = IntegratedFroxel{in_scatter, transmittance, d[k].extinction};
         }
       }
+    }
   });
 }
 

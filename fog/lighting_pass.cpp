@@ -1,13 +1,25 @@
-// fog.lighting: sun light per froxel, sampled at one point of the froxel per
-// frame. The point is importance sampled along the (jittered) ray inside the
-// slice proportionally to the transmittance of the homogeneous froxel
-// (seed 002, "closed-form tracking"): with u uniform in [0,1),
+// fog.lighting: the sun's shadow visibility per froxel, sampled at one point
+// of the froxel per frame. The point is importance sampled along the
+// (jittered) ray inside the slice proportionally to the transmittance of the
+// homogeneous froxel (seed 002, "closed-form tracking"): with u uniform in
+// [0,1),
 //   offset = -log(1 - u (1 - exp(-sigma dt))) / sigma,
 // whose weight (1 - exp(-sigma dt)) / sigma is applied at integration, so the
-// stored value is the transmittance-weighted mean of E_sun * visibility over
-// the slice. u comes from the 7-frame sequence plus a per-column hash.
+// stored value is the transmittance-weighted mean of the visibility over the
+// slice. u comes from the 7-frame sequence plus a per-column hash. The sun's
+// illuminance is not part of it: it varies slowly along a column (atmospheric
+// transmittance with altitude) and integration applies it at the slice
+// centre, so the buffer the temporal passes carry is one float per froxel.
+//
+// A column runs as flat loops over its slices (sample offsets, the shadow
+// lookups with AVX2 gathers where the CPU has them, the sum) that vectorise;
+// only optically thick slices take the scalar log. Each froxel's arithmetic
+// is the same sequence of float operations as VolumeShadow::visibility and
+// importance_sample_offset, so the result does not depend on which path or
+// clone runs.
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 #include "fog/froxel_passes.h"
 #include "fog/homogeneous_medium.h"
@@ -15,12 +27,56 @@
 
 namespace cr {
 
-void light_froxels(const FroxelView& view, const std::vector<FogDensity>& density, const SunLightingInputs& sun,
-                   const VolumeShadow& shadow, const JitterInputs& jitter, JobSystem& jobs,
-                   std::vector<glm::vec3>& sun_light) {
+namespace {
+
+// Per-slice scratch of one job.
+struct ColumnScratch {
+  std::vector<float> offset, t, visibility;
+  explicit ColumnScratch(int nz) : offset(size_t(nz)), t(size_t(nz)), visibility(size_t(nz)) {}
+};
+
+// FogDensity as flat floats (scattering RGB, extinction): the column loops
+// below read it as a 4-way interleave, which vectorises.
+static_assert(sizeof(FogDensity) == 4 * sizeof(float));
+
+// Importance-sampled offsets of slices [0, n): the thin-slice series of
+// importance_sample_offset for every slice (vectorised), then the exact log
+// form where a slice is optically thick (a >= 0.05), if any is.
+__attribute__((target_clones("avx2", "default"))) void sample_offsets(const float* __restrict density,
+                                                                        const float* __restrict dt, float u, int n,
+                                                                        float* __restrict offset) {
+  int thick = 0;
+  for (int k = 0; k < n; ++k) {
+    const float a = std::max(density[4 * k + 3], 1e-12f) * dt[k];
+    offset[k] = importance_sample_offset_thin(u, a, dt[k]);
+    thick |= int(a >= 0.05f);
+  }
+  if (!thick) return;
+  for (int k = 0; k < n; ++k) {
+    const float sigma = std::max(density[4 * k + 3], 1e-12f);
+    if (sigma * dt[k] >= 0.05f) offset[k] = importance_sample_offset(u, sigma, dt[k]);
+  }
+}
+
+// out[k] += visibility[k] where the froxel scatters; clear air keeps 0:
+// nothing multiplies its light.
+__attribute__((target_clones("avx2", "default"))) void add_visibility(const float* __restrict density,
+                                                                        const float* __restrict visibility, int n,
+                                                                        float* __restrict out) {
+  for (int k = 0; k < n; ++k) {
+    const bool clear = (density[4 * k] == 0.0f) & (density[4 * k + 1] == 0.0f) & (density[4 * k + 2] == 0.0f);
+    out[k] += clear ? 0.0f : visibility[k];
+  }
+}
+
+}  // namespace
+
+void light_froxels(const FroxelView& view, const std::vector<FogDensity>& density, const VolumeShadow& shadow,
+                   const JitterInputs& jitter, JobSystem& jobs, std::vector<float>& sun_visibility,
+                   const std::function<void(int y0, int y1)>& before_rows) {
   const FroxelGrid& g = view.grid;
   const Camera& cam = view.camera;
-  sun_light.resize(g.count());
+  sun_visibility.resize(g.count());
   const int nx = g.nx(), nz = g.nz();
   const int samples = std::max(jitter.samples, 1);
   std::vector<float> t0(static_cast<size_t>(nz)), dt(static_cast<size_t>(nz));
@@ -28,15 +84,16 @@ void light_froxels(const FroxelView& view, const std::vector<FogDensity>& densit
     t0[size_t(k)] = g.boundary(k);
     dt[size_t(k)] = g.thickness(k);
   }
-  const float t_first = g.center(0), t_last = g.center(nz - 1);
   const float s = float(g.froxel_size());
   jobs.parallel_for("fog.lighting", size_t(g.ny()), 1, [&](size_t begin, size_t end) {
+    ColumnScratch scratch(nz);
+    if (before_rows) before_rows(int(begin), int(end));
     for (int y = int(begin); y < int(end); ++y)
       for (int x = 0; x < nx; ++x) {
-        glm::vec3* out = sun_light.data() + g.index(x, y, 0);
-        const FogDensity* column = density.data() + g.index(x, y, 0);
+        float* out = sun_visibility.data() + g.index(x, y, 0);
+        const float* flat = reinterpret_cast<const float*>(density.data() + g.index(x, y, 0));
         const int n = view.lit_slices[size_t(y) * nx + x];
-        for (int k = 0; k < n; ++k) out[k] = glm::vec3(0.0f);
+        for (int k = 0; k < n; ++k) out[k] = 0.0f;
         if (n == 0) continue;
         const glm::vec2 center_px = g.column_center_px(x, y);
         const float hash = column_hash(x, y);
@@ -47,26 +104,13 @@ void light_froxels(const FroxelView& view, const std::vector<FogDensity>& densit
           const float u = std::fmod(hash + j.depth, 1.0f);
           const glm::vec3 dir =
               cam.ray_direction(center_px.x + j.lateral.x * s, center_px.y + j.lateral.y * s, g.width(), g.height());
-          const VolumeShadow::Ray ray = shadow.ray(glm::vec3(0.0f), dir);
-          // The sun's illuminance varies slowly (atmospheric transmittance
-          // with altitude): evaluate it at the column's ends, lerp in t.
-          glm::vec3 e0 = sun.illuminance, e1 = sun.illuminance;
-          if (sun.light && sun.light->sun_at) {
-            const glm::vec3 ends[2] = {glm::vec3(sun.camera_position + glm::dvec3(dir * t_first)),
-                                       glm::vec3(sun.camera_position + glm::dvec3(dir * t_last))};
-            glm::vec3 e[2];
-            sun.light->sun_at(ends, e, 2);
-            e0 = e[0];
-            e1 = e[1];
-          }
-          const glm::vec3 de = nz > 1 ? (e1 - e0) / (t_last - t_first) : glm::vec3(0.0f);
-          for (int k = 0; k < n; ++k) {
-            if (column[k].scattering == glm::vec3(0.0f)) continue;  // clear air: the light is never used
-            const float sigma = std::max(column[k].extinction, 1e-12f);
-            const float t = t0[size_t(k)] + importance_sample_offset(u, sigma, dt[size_t(k)]);
-            const glm::vec3 e = e0 + de * (t - t_first);
-            out[k] += glm::max(e, glm::vec3(0.0f)) * shadow.visibility(ray, t);
-          }
+          float* offset = scratch.offset.data();
+          float* vis = scratch.visibility.data();
+          sample_offsets(flat, dt.data(), u, n, offset);
+          float* t = scratch.t.data();
+          for (int k = 0; k < n; ++k) t[k] = t0[size_t(k)] + offset[k];
+          shadow.visibility(shadow.ray(glm::vec3(0.0f), dir), t, n, vis);
+          add_visibility(flat, vis, n, out);
         }
         if (samples > 1)
           for (int k = 0; k < n; ++k) out[k] /= float(samples);

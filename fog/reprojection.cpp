@@ -1,9 +1,9 @@
 // fog.reproject: temporal accumulation of the jittered sun term.
 //
-// What is reprojected: only the phase-free sun light (illuminance x shadow
-// visibility at the jittered sample). Density, ambient light and the phase
-// function are evaluated every frame at the froxel centre without jitter, so
-// they need no history and cannot ghost; in particular the anisotropic phase
+// What is reprojected: only the sun's shadow visibility at the jittered
+// sample (one float per froxel). Density, the sun's illuminance, ambient
+// light and the phase function are evaluated every frame at the froxel
+// centre without jitter, so they need no history and cannot ghost; in particular the anisotropic phase
 // is applied after the blend with the current view direction, which is exact
 // for the one directional light (HDRP reprojects phase-free lighting too, but
 // divides a per-light mix back out, which flickers with several lights).
@@ -28,13 +28,13 @@ bool same_camera(const Camera& a, const Camera& b) {
 // Projection of points into the history's grid, set up once per frame.
 struct HistoryProjection {
   const FroxelGrid* grid;
-  const std::vector<glm::vec3>* values;
+  const std::vector<float>* values;
   const uint16_t* lit;  // per history column: slices it holds
   float scale_x, scale_y;  // pixels per unit of x/z and y/z
   float max_px, max_py;    // grid extent in pixels
   float inv_size;          // 1 / froxel size
 
-  HistoryProjection(const FroxelView& hv, const std::vector<glm::vec3>& history) {
+  HistoryProjection(const FroxelView& hv, const std::vector<float>& history) {
     grid = &hv.grid;
     values = &history;
     lit = hv.lit_slices.data();
@@ -48,7 +48,7 @@ struct HistoryProjection {
 
   // Trilinear read at q (history camera's right, up, forward axes, relative
   // to its position); false outside the history's frustum or fog range.
-  bool sample(const glm::vec3& q, glm::vec3& out) const {
+  bool sample(const glm::vec3& q, float& out) const {
     const FroxelGrid& hg = *grid;
     if (!(q.z > 0.0f)) return false;
     const float inv_z = 1.0f / q.z;
@@ -72,13 +72,13 @@ struct HistoryProjection {
         lit[size_t(y1) * nx + x1] < need)
       return false;
     const float ax = fx - float(x0), ay = fy - float(y0), az = fz - float(z0);
-    const glm::vec3* h = values->data();
+    const float* h = values->data();
     auto lerp_z = [&](int xi, int yi) {
-      const glm::vec3* c = h + hg.index(xi, yi, z0);
+      const float* c = h + hg.index(xi, yi, z0);
       return c[0] + (c[dz] - c[0]) * az;
     };
-    const glm::vec3 v00 = lerp_z(x0, y0), v10 = lerp_z(x1, y0), v01 = lerp_z(x0, y1), v11 = lerp_z(x1, y1);
-    const glm::vec3 v0 = v00 + (v10 - v00) * ax, v1 = v01 + (v11 - v01) * ax;
+    const float v00 = lerp_z(x0, y0), v10 = lerp_z(x1, y0), v01 = lerp_z(x0, y1), v11 = lerp_z(x1, y1);
+    const float v0 = v00 + (v10 - v00) * ax, v1 = v01 + (v11 - v01) * ax;
     out = v0 + (v1 - v0) * ay;
     return true;
   }
@@ -86,9 +86,9 @@ struct HistoryProjection {
 
 }  // namespace
 
-ReprojectStats reproject_history(const FroxelView& view, const std::vector<glm::vec3>& current,
-                                 const FroxelView& history_view, const std::vector<glm::vec3>& history,
-                                 float history_weight, bool clamp, JobSystem& jobs, std::vector<glm::vec3>& out) {
+ReprojectStats reproject_history(const FroxelView& view, const std::vector<float>& current,
+                                 const FroxelView& history_view, const std::vector<float>& history,
+                                 float history_weight, bool clamp, JobSystem& jobs, std::vector<float>& out) {
   const FroxelGrid& g = view.grid;
   const FroxelGrid& hg = history_view.grid;
   out.resize(g.count());
@@ -105,44 +105,49 @@ ReprojectStats reproject_history(const FroxelView& view, const std::vector<glm::
   std::vector<float> centers(static_cast<size_t>(nz));
   for (int k = 0; k < nz; ++k) centers[size_t(k)] = g.center(k);
   std::vector<size_t> rejected_per_row(size_t(ny), 0);
-  // Per column the slices are contiguous RGB floats, so the clamp and blend
-  // run as flat float loops the compiler vectorises.
-  const float* cur_all = reinterpret_cast<const float*>(current.data());
-  const float* hist_all = reinterpret_cast<const float*>(history.data());
-  float* out_all = reinterpret_cast<float*>(out.data());
+  // Per column the slices are contiguous floats, so the clamp and blend run
+  // as flat loops the compiler vectorises.
+  const float* cur_all = current.data();
+  const float* hist_all = history.data();
+  float* out_all = out.data();
   jobs.parallel_for("fog.reproject", size_t(ny), 1, [&](size_t begin, size_t end) {
-    std::vector<float> h(size_t(nz) * 3), lo(size_t(nz) * 3), hi(size_t(nz) * 3);
+    std::vector<float> h(static_cast<size_t>(nz)), lo(static_cast<size_t>(nz)), hi(static_cast<size_t>(nz));
     for (int y = int(begin); y < int(end); ++y)
       for (int x = 0; x < nx; ++x) {
         const size_t c = size_t(y) * nx + x;
         const int n = view.lit_slices[c];
         const size_t base = g.index(x, y, 0);
-        const float* cur = cur_all + base * 3;
-        float* dst = out_all + base * 3;
+        const float* cur = cur_all + base;
+        float* dst = out_all + base;
         // History per slice; where there is none it takes the current value,
         // which the clamp keeps and the blend returns unchanged.
         size_t rejected = 0;
+        // The history of the slices: read in place for the same camera (the
+        // slices it lacks take the current value), else gathered into h.
+        const float* hist = h.data();
         if (stats.identity) {
           const int m = std::min(n, int(history_view.lit_slices[c]));
-          std::copy(hist_all + base * 3, hist_all + (base + size_t(m)) * 3, h.data());
-          std::copy(cur + size_t(m) * 3, cur + size_t(n) * 3, h.data() + size_t(m) * 3);
+          if (m < n) {
+            std::copy(hist_all + base, hist_all + base + size_t(m), h.data());
+            std::copy(cur + m, cur + n, h.data() + m);
+          } else {
+            hist = hist_all + base;
+          }
           rejected = size_t(n - m);
         } else {
           const glm::vec3 d = view.directions[c];
           const glm::vec3 dv(glm::dot(d, hc.right), glm::dot(d, hc.up), glm::dot(d, hc.forward));
           for (int k = 0; k < n; ++k) {
-            glm::vec3 v;
+            float v;
             if (!projection.sample(offset + dv * centers[size_t(k)], v)) {
-              v = glm::vec3(cur[k * 3], cur[k * 3 + 1], cur[k * 3 + 2]);
+              v = cur[k];
               ++rejected;
             }
-            h[size_t(k) * 3] = v.x;
-            h[size_t(k) * 3 + 1] = v.y;
-            h[size_t(k) * 3 + 2] = v.z;
+            h[size_t(k)] = v;
           }
         }
         rejected_per_row[size_t(y)] += rejected;
-        const size_t len = size_t(n) * 3;
+        const size_t len = size_t(n);
         if (clamp) {
           // Clamp the history to the range of the current frame's 3x3
           // neighbourhood in this slice (TAA-style): neighbours sample other
@@ -150,22 +155,28 @@ ReprojectStats reproject_history(const FroxelView& view, const std::vector<glm::
           // converged value; history outside it is a ghost (moved shaft,
           // disocclusion) and is cut. HDRP does not clamp. Neighbours count
           // only where they are lit.
-          std::copy(cur, cur + len, lo.data());
-          std::copy(cur, cur + len, hi.data());
+          float* l = lo.data();
+          float* u = hi.data();
+          std::copy(cur, cur + len, l);
+          std::copy(cur, cur + len, u);
           for (int i = 0; i < 9; ++i) {
             const int xn = std::clamp(x + i % 3 - 1, 0, nx - 1), yn = std::clamp(y + i / 3 - 1, 0, ny - 1);
             const size_t cn = size_t(yn) * nx + xn;
             if (cn == c) continue;
-            const float* nb = cur_all + g.index(xn, yn, 0) * 3;
-            const size_t m = size_t(std::min(n, int(view.lit_slices[cn]))) * 3;
+            const float* nb = cur_all + g.index(xn, yn, 0);
+            const size_t m = size_t(std::min(n, int(view.lit_slices[cn])));
             for (size_t j = 0; j < m; ++j) {
-              lo[j] = std::min(lo[j], nb[j]);
-              hi[j] = std::max(hi[j], nb[j]);
+              l[j] = std::min(l[j], nb[j]);
+              u[j] = std::max(u[j], nb[j]);
             }
           }
-          for (size_t j = 0; j < len; ++j) h[j] = std::min(std::max(h[j], lo[j]), hi[j]);
+          for (size_t j = 0; j < len; ++j) {
+            const float clamped = std::min(std::max(hist[j], l[j]), u[j]);
+            dst[j] = cur[j] + (clamped - cur[j]) * w;
+          }
+        } else {
+          for (size_t j = 0; j < len; ++j) dst[j] = cur[j] + (hist[j] - cur[j]) * w;
         }
-        for (size_t j = 0; j < len; ++j) dst[j] = cur[j] + (h[j] - cur[j]) * w;
       }
   });
   for (size_t r : rejected_per_row) stats.rejected += r;

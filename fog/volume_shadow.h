@@ -27,6 +27,9 @@ class VolumeShadow {
   // Fraction of the sun visible at origin + t * direction (1 = lit). Inline:
   // it runs once per lit froxel.
   float visibility(const Ray& r, float t) const;
+  // visibility(r, t[k]) for k < n, with AVX2 gathers where the CPU has them
+  // (the same bits as the one-point lookup).
+  void visibility(const Ray& r, const float* t, int n, float* out) const;
   bool empty() const { return size_ <= 0; }
 
  private:
