@@ -28,7 +28,7 @@ namespace {
 
 // march_media's loop over its n steps; restrict parameters (not locals: GCC
 // honours only these) let it vectorize, 8 lanes wide where AVX2 is available.
-__attribute__((target_clones("avx2", "default")))
+
 void media_of_steps(const AtmosphereModel& m, float h0, float mu, float floor_altitude, size_t n,
                     const float* __restrict t, const float* __restrict dt, float* __restrict h,
                     float* __restrict rayleigh, float* __restrict mie, float* __restrict t0, float* __restrict t1,
@@ -228,7 +228,7 @@ ShadedRay shade_split(const AtmosphereLuts& luts, const MarchedRay& ray, float m
 
 
 // 8 lanes wide in sample_coordinates where AVX2 is available (same IEEE results).
-__attribute__((target_clones("avx2", "default")))
+
 void shade_split_many(const AtmosphereLuts& luts, const MarchedRay& ray, float mu_s, size_t n, const float* nu,
                       ShadedRay* out) {
   thread_local ShadeScratch sc;

@@ -196,7 +196,7 @@ inline void froxel_footprints(const FroxelRow& c, const FroxelVolume& v, size_t 
 // distance dist[j]: the footprints first, then the trilinear blends. A pixel
 // whose depth weight is 0 (closer than the first slice, or at the last) reads
 // one slice: the other would add (back - front) * 0.
-__attribute__((target_clones("avx2", "default")))
+
 void apply_froxels(const FroxelRow& c, const FroxelVolume& v, size_t n, const int* __restrict index,
                    const float* __restrict sx, const float* __restrict dist, Scratch& s, const Float4& illuminance,
                    glm::vec3* __restrict color) {

@@ -106,7 +106,7 @@ void gather_slice(const FroxelGrid& g, const IntegratedFroxel* volume, const Wei
 // on divisors kept off zero, then the same selects as the scalar form
 // "whole > 1e-12 ? partial / whole : (dt > 0 ? s / dt : 1)"). Restrict
 // parameters, so the compiler knows the arrays apart and vectorises.
-__attribute__((target_clones("avx2", "default"))) void resolve_slices(
+void resolve_slices(
     size_t n, const float* __restrict sigma, const float* __restrict s, const float* __restrict dt,
     const float* __restrict near_r, const float* __restrict near_g, const float* __restrict near_b,
     float* __restrict far_r, float* __restrict far_g, float* __restrict far_b, float* __restrict t_near) {

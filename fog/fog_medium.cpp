@@ -47,7 +47,7 @@ FogDensity FogMedium::height_fog(const glm::vec3& rel) const {
 }
 
 // AVX2 clone: the same float operations (no contraction), eight lanes wide.
-__attribute__((target_clones("avx2", "default"))) void FogMedium::height_fog_column(const glm::vec3& dir,
+void FogMedium::height_fog_column(const glm::vec3& dir,
                                                                                      const float* t, int n,
                                                                                      FogDensity* out) const {
   if (!settings_.height_fog) {

@@ -37,7 +37,7 @@ struct ColumnLight {
   glm::vec3 ambient;
 };
 
-__attribute__((target_clones("avx2", "default"))) void column_terms(const FogDensity* __restrict d,
+void column_terms(const FogDensity* __restrict d,
                                                                       const float* __restrict visibility,
                                                                       const float* __restrict dt,
                                                                       const float* __restrict center, int n,

@@ -42,7 +42,7 @@ static_assert(sizeof(FogDensity) == 4 * sizeof(float));
 // Importance-sampled offsets of slices [0, n): the thin-slice series of
 // importance_sample_offset for every slice (vectorised), then the exact log
 // form where a slice is optically thick (a >= 0.05), if any is.
-__attribute__((target_clones("avx2", "default"))) void sample_offsets(const float* __restrict density,
+void sample_offsets(const float* __restrict density,
                                                                         const float* __restrict dt, float u, int n,
                                                                         float* __restrict offset) {
   int thick = 0;
@@ -60,7 +60,7 @@ __attribute__((target_clones("avx2", "default"))) void sample_offsets(const floa
 
 // out[k] += visibility[k] where the froxel scatters; clear air keeps 0:
 // nothing multiplies its light.
-__attribute__((target_clones("avx2", "default"))) void add_visibility(const float* __restrict density,
+void add_visibility(const float* __restrict density,
                                                                         const float* __restrict visibility, int n,
                                                                         float* __restrict out) {
   for (int k = 0; k < n; ++k) {
