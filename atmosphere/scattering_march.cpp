@@ -27,8 +27,7 @@ void MarchSteps::resize(size_t n) {
 namespace {
 
 // march_media's loop over its n steps; restrict parameters (not locals: GCC
-// honours only these) let it vectorize, 8 lanes wide where AVX2 is available.
-
+// honours only these) let it vectorize.
 void media_of_steps(const AtmosphereModel& m, float h0, float mu, float floor_altitude, size_t n,
                     const float* __restrict t, const float* __restrict dt, float* __restrict h,
                     float* __restrict rayleigh, float* __restrict mie, float* __restrict t0, float* __restrict t1,
@@ -227,8 +226,7 @@ ShadedRay shade_split(const AtmosphereLuts& luts, const MarchedRay& ray, float m
 }
 
 
-// 8 lanes wide in sample_coordinates where AVX2 is available (same IEEE results).
-
+// vectorised in sample_coordinates (same IEEE results).
 void shade_split_many(const AtmosphereLuts& luts, const MarchedRay& ray, float mu_s, size_t n, const float* nu,
                       ShadedRay* out) {
   thread_local ShadeScratch sc;

@@ -137,7 +137,7 @@ using Float8 = float __attribute__((vector_size(32)));
 
 // Bilinear blend of the texels at r, r + dx, r + dy, r + dx + dy (offsets in
 // floats). Results by reference: a 32-byte vector is not returned by value,
-// whose ABI differs between the AVX and the baseline clones.
+// whose ABI differs between AVX and baseline builds.
 inline void bilinear8(const float* r, size_t dx, size_t dy, const Float8& wx, const Float8& wy, Float8& out) {
   Float8 a, b, c, d;
   std::memcpy(&a, r, sizeof a);
@@ -196,7 +196,6 @@ inline void froxel_footprints(const FroxelRow& c, const FroxelVolume& v, size_t 
 // distance dist[j]: the footprints first, then the trilinear blends. A pixel
 // whose depth weight is 0 (closer than the first slice, or at the last) reads
 // one slice: the other would add (back - front) * 0.
-
 void apply_froxels(const FroxelRow& c, const FroxelVolume& v, size_t n, const int* __restrict index,
                    const float* __restrict sx, const float* __restrict dist, Scratch& s, const Float4& illuminance,
                    glm::vec3* __restrict color) {

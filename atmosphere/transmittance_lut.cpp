@@ -41,8 +41,7 @@ void TransmittanceMapping::from_unit(glm::vec2 unit, float& altitude, float& mu)
   mu = float(std::clamp(m, -1.0, 1.0));
 }
 
-// The density loop vectorizes: 8 lanes where AVX2 is available (same IEEE results).
-
+// The density loop vectorizes (same IEEE results).
 glm::vec3 optical_depth(const AtmosphereModel& m, float h0, float mu, float length, int steps) {
   const float R = float(m.bottom_radius);
   const float h0_term = h0 * (2.0f * R + h0);

@@ -46,7 +46,7 @@ FogDensity FogMedium::height_fog(const glm::vec3& rel) const {
   return d;
 }
 
-// AVX2 clone: the same float operations (no contraction), eight lanes wide.
+// A loop the compiler vectorises: the same float operations (no contraction) per lane.
 void FogMedium::height_fog_column(const glm::vec3& dir,
                                                                                      const float* t, int n,
                                                                                      FogDensity* out) const {

@@ -19,7 +19,7 @@ namespace cr {
 namespace {
 
 // Per-slice terms of one column, independent of each other (flat loops over
-// SoA scratch, vectorised; the AVX2 clone runs the same float operations):
+// SoA scratch, vectorised with the same float operations per lane):
 // opacity 1 - exp(-x) and the slice's weight (1 - exp(-x)) / sigma (its limit
 // dt for x -> 0; the division runs for every slice, on a sigma kept off zero,
 // so the loop has no branch), and the source sigma_s (phase E_sun V + ambient)

@@ -15,8 +15,8 @@
 // lookups with AVX2 gathers where the CPU has them, the sum) that vectorise;
 // only optically thick slices take the scalar log. Each froxel's arithmetic
 // is the same sequence of float operations as VolumeShadow::visibility and
-// importance_sample_offset, so the result does not depend on which path or
-// clone runs.
+// importance_sample_offset, so the result does not depend on which path
+// runs.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>

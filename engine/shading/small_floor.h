@@ -1,8 +1,8 @@
 #pragma once
 // floor() for the texel and LOD coordinates of the inner shading loops.
-// Without SSE4.1 the compiler expands std::floor into a long sequence that
-// also handles huge values and NaN; these coordinates are known to be
-// finite and small, where a truncation and one compare give the same value.
+// std::floor also handles huge values and NaN (and without SSE4.1 expands
+// into a long sequence); these coordinates are known to be finite and small,
+// where a truncation and one compare give the same value.
 
 namespace cr {
 
