@@ -36,13 +36,57 @@ struct AltitudeMarch {
   std::vector<Float4> weight;  // the steps' weights as rgb + pad
 };
 
+// The polar angles of the directions: n bands uniform in u in [-1, 1], mapped
+// to cos = mu_h +- (1 -+ mu_h) u^2 about the local horizon mu_h, so the bands
+// are thin where the luminance and the optical depth change fastest (rays
+// just above the horizon are hundreds of km long, those just below end on the
+// ground nearby). `weight` is the band's share of the sphere (its cos range / 2).
+struct PolarBand {
+  double cos_p;
+  double weight;
+};
+
+PolarBand polar_band(int b, int n, double mu_horizon) {
+  const double u = 1.0 - 2.0 * (double(b) + 0.5) / double(n);
+  const double side = u >= 0.0 ? 1.0 - mu_horizon : 1.0 + mu_horizon;  // cos range on this side of the horizon
+  return {mu_horizon + (u >= 0.0 ? side : -side) * u * u, side * std::abs(u) * 2.0 / double(n)};
+}
+
+// Irradiance of the ground from a unit isotropic in-scattered field (every
+// point of the medium scattering sigma_s * 1 towards it): the ground's share
+// of f_ms. Marched over the upper hemisphere with the same bands and steps.
+glm::vec3 ground_irradiance_per_unit_field(const AtmosphereModel& m, int bands, int steps) {
+  const DensityProfile profile(m);
+  const double R = m.bottom_radius;
+  glm::vec3 e(0.0f);
+  for (int b = 0; b < bands / 2; ++b) {  // the upper half of the bands: above the ground's horizon (mu_h = 0)
+    const PolarBand band = polar_band(b, bands, 0.0);
+    const double t_max = std::max(distance_to_sphere_exit(R, band.cos_p, m.top_radius), 0.0);
+    const float dt = float(t_max / steps);
+    glm::vec3 throughput(1.0f), l(0.0f);
+    for (int k = 0; k < steps; ++k) {
+      const float t = (float(k) + 0.5f) * dt;
+      const MediumSample med = medium_from(m, profile.at(altitude_along_ray(float(R), 0.0f, float(R * band.cos_p), t)));
+      for (int c = 0; c < 3; ++c) {
+        const float tau = med.extinction[c] * dt;
+        const float step_t = fast_exp_neg(-tau);
+        l[c] += throughput[c] * med.scattering[c] * one_minus_exp_over_x(tau, step_t) * dt;
+        throughput[c] *= step_t;
+      }
+    }
+    e += l * float(4.0 * M_PI * band.weight * band.cos_p);  // solid angle (the band's sphere share * 4 pi) * cos
+  }
+  return e;
+}
+
 AltitudeMarch march_altitude(const AtmosphereModel& m, const TransmittanceLut& lut, float altitude,
-                             int directions, int steps) {
+                             int directions, int steps, const glm::vec3& ground_irradiance) {
   const int n = int(std::lround(std::sqrt(double(directions))));
   const int half = n / 2;  // mirror symmetry about the sun plane: half the azimuths, weight 2
   const double R = m.bottom_radius;
   const DensityProfile profile(m);
   const double r0 = R + double(altitude);
+  const double mu_horizon = -std::sqrt(std::max(0.0, 1.0 - (R / r0) * (R / r0)));
   const float h0_term = altitude * (2.0f * float(R) + altitude);
   AltitudeMarch am;
   const int dir_count = n * half;
@@ -52,12 +96,14 @@ AltitudeMarch march_altitude(const AtmosphereModel& m, const TransmittanceLut& l
   am.ground_x.assign(size_t(dir_count), 0.0f);
   am.ground_y.assign(size_t(dir_count), 0.0f);
   am.ground_row.assign(size_t(dir_count), lut.row(0.0f));
-  am.dir_weight.assign(size_t(dir_count), 2.0f / float(directions));
+  am.dir_weight.assign(size_t(dir_count), 0.0f);
   for (int a = 0; a < half; ++a) {
     const double azimuth = 2.0 * M_PI * (double(a) + 0.5) / n;
     for (int b = 0; b < n; ++b) {
       const int d = a * n + b;
-      const double cos_p = 1.0 - 2.0 * (double(b) + 0.5) / n;
+      const PolarBand band = polar_band(b, n, mu_horizon);
+      const double cos_p = band.cos_p;
+      am.dir_weight[size_t(d)] = float(band.weight / double(half));
       const double sin_p = std::sqrt(std::max(0.0, 1.0 - cos_p * cos_p));
       const double dir_x = sin_p * std::cos(azimuth);  // in the sun plane (sun has z = 0)
       const double dir_y = cos_p;
@@ -86,6 +132,8 @@ AltitudeMarch march_altitude(const AtmosphereModel& m, const TransmittanceLut& l
       }
       if (t_ground >= 0.0) {
         am.ground_tp[size_t(d)] = throughput * m.ground_albedo / kPi;
+        // The ground lit by the isotropic field reflects it back: part of the transfer.
+        am.fms[size_t(d)] += am.ground_tp[size_t(d)] * ground_irradiance;
         am.ground_x[size_t(d)] = float(t_ground * dir_x / R);
         am.ground_y[size_t(d)] = float((r0 + t_ground * dir_y) / R);
       }
@@ -179,7 +227,9 @@ MultiScatteringLut::MultiScatteringLut(const AtmosphereModel& model, int size, i
       image_(size, size),
       packed_(4 * image_.count(), 0.0f),
       clamped_(size_t(size) * size, 0),
-      fms_(size_t(size) * size, 0.0f) {}
+      fms_(size_t(size) * size, 0.0f),
+      ground_irradiance_(ground_irradiance_per_unit_field(
+          model, int(std::lround(std::sqrt(double(directions)))), steps)) {}
 
 void MultiScatteringLut::bake(size_t begin, size_t end, const TransmittanceLut& transmittance) {
   const int w = image_.width;
@@ -188,7 +238,7 @@ void MultiScatteringLut::bake(size_t begin, size_t end, const TransmittanceLut& 
     const int y = int(i / size_t(w));
     const size_t row_end = std::min(end, size_t(y + 1) * size_t(w));
     const float altitude = float(y) / float(image_.height - 1) * float(model_.atmosphere_height());
-    const AltitudeMarch am = march_altitude(model_, transmittance, altitude, directions_, steps_);
+    const AltitudeMarch am = march_altitude(model_, transmittance, altitude, directions_, steps_, ground_irradiance_);
     for (; i < row_end; ++i) {
       const int x = int(i % size_t(w));
       const float mu_s = float(x) / float(w - 1) * 2.0f - 1.0f;

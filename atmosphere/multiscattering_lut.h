@@ -1,9 +1,10 @@
 #pragma once
 // LUT 2: Hillaire's multiple-scattering term Psi_ms over (sun zenith cosine,
-// altitude). Per texel, `directions` uniformly distributed rays are marched
-// (isotropic phase, ground bounce with the albedo) to get the second-order
-// luminance L2 and the transfer factor f_ms; all orders follow from the
-// geometric series Psi_ms = L2 / (1 - f_ms). f_ms is clamped to max_fms
+// altitude). Per texel, `directions` rays are marched (sqrt(directions) polar
+// bands, denser near the local horizon; isotropic phase, ground bounce with the
+// albedo) to get the second-order luminance L2 and the transfer factor f_ms,
+// which includes the ground reflecting the isotropic field back; all orders
+// follow from the geometric series Psi_ms = L2 / (1 - f_ms). f_ms is clamped to max_fms
 // (dense atmospheres drive it to 1) and clamped texels are counted.
 #include <cstddef>
 #include <cstdint>
@@ -47,6 +48,7 @@ class MultiScatteringLut {
   std::vector<float> packed_;
   std::vector<uint8_t> clamped_;
   std::vector<float> fms_;
+  glm::vec3 ground_irradiance_{0.0f};  // of the ground from a unit isotropic field: its share of f_ms
 };
 
 }  // namespace cr

@@ -23,12 +23,33 @@ float luminance(const glm::vec3& c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0
 
 bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
+// Sum of sigma_s * T along a ray from altitude h with zenith cosine cos_p to the top, fine steps.
+glm::dvec3 unit_field_luminance(const AtmosphereModel& m, double h, double cos_p, int steps) {
+  const double R = m.bottom_radius, r0 = R + h;
+  const double dt = distance_to_sphere_exit(r0, cos_p, m.top_radius) / steps;
+  glm::dvec3 throughput(1.0), f(0.0);
+  for (int k = 0; k < steps; ++k) {
+    const double t = (k + 0.5) * dt;
+    const MediumSample med = sample_medium(m, float(std::sqrt(r0 * r0 + t * t + 2.0 * r0 * t * cos_p) - R));
+    const glm::dvec3 ext(med.extinction);
+    f += throughput * glm::dvec3(med.scattering) * (glm::dvec3(1.0) - glm::exp(-ext * dt)) / ext;
+    throughput *= glm::exp(-ext * dt);
+  }
+  return f;
+}
+
 // Psi_ms at one point by brute force: many random directions, fine steps and
-// the sun's transmittance marched directly (no LUT).
+// the sun's transmittance marched directly (no LUT). The transfer f_ms
+// includes the ground reflecting the unit isotropic field back.
 glm::vec3 brute_force_psi(const AtmosphereModel& m, double altitude, double mu_s) {
   const int n = 40;  // n*n directions, independent of the LUT's stratification
   const int steps = 60;
   const double R = m.bottom_radius;
+  glm::dvec3 ground_irradiance(0.0);  // from the unit field: integral of L cos over the upper hemisphere
+  for (int b = 0; b < 400; ++b) {
+    const double cos_p = (b + 0.5) / 400.0;
+    ground_irradiance += unit_field_luminance(m, 0.0, cos_p, 400) * cos_p * (2.0 * M_PI / 400.0);
+  }
   const glm::dvec3 x0(0.0, R + altitude, 0.0);
   const glm::dvec3 s(std::sqrt(1.0 - mu_s * mu_s), mu_s, 0.0);
   glm::dvec3 l2(0.0), fms(0.0);
@@ -58,6 +79,7 @@ glm::vec3 brute_force_psi(const AtmosphereModel& m, double altitude, double mu_s
         const double mu_g = glm::dot(glm::normalize(pg), s);
         if (mu_g > 0.0)
           l += throughput * glm::dvec3(m.ground_albedo) / M_PI * reference_transmittance(m, pg, s) * mu_g;
+        f += throughput * glm::dvec3(m.ground_albedo) / M_PI * ground_irradiance;
       }
       l2 += l;
       fms += f;
@@ -75,15 +97,23 @@ TEST_CASE("multi-scattering LUT matches a brute-force evaluation of its integral
   t.bake(0, t.texel_count());
   MultiScatteringLut ms(m, 32, 64, 20, 0.95f);
   ms.bake(0, ms.texel_count(), t);
-  for (auto [h, mu_s] : {std::pair{0.0, 1.0}, std::pair{0.0, 0.2}, std::pair{3000.0 * 31.0 / 31.0, 0.6}}) {
+  // Relative, per channel (doctest's default scale of 1 made epsilon absolute: no check at Psi ~ 0.05).
+  // Sun high or air above the ground: within 10%. The ground under a low sun is the hardest case for
+  // 64 directions (bright, very long rays just above the horizon, the ground just below): the LUT is
+  // still up to ~20% low there (uniform in cos, without the ground's share of f_ms, it was lower).
+  struct Point {
+    double h, mu_s, tolerance;
+  };
+  for (const Point p : {Point{0.0, 1.0, 0.10}, Point{3000.0, 0.6, 0.10}, Point{10000.0, 0.07, 0.10},
+                        Point{0.0, 0.2, 0.20}, Point{0.0, 0.0, 0.22}}) {
     // Texel-centred points: h = j/31 * 100 km, mu_s = i/31 * 2 - 1.
-    const double hh = std::round(h / (100e3 / 31.0)) * (100e3 / 31.0);
-    const double mm = std::round((mu_s + 1.0) / 2.0 * 31.0) / 31.0 * 2.0 - 1.0;
+    const double hh = std::round(p.h / (100e3 / 31.0)) * (100e3 / 31.0);
+    const double mm = std::round((p.mu_s + 1.0) / 2.0 * 31.0) / 31.0 * 2.0 - 1.0;
     const glm::vec3 lut = ms.sample(float(hh), float(mm));
     const glm::vec3 ref = brute_force_psi(m, hh, mm);
     CAPTURE(hh);
     CAPTURE(mm);
-    for (int c = 0; c < 3; ++c) CHECK(lut[c] == doctest::Approx(ref[c]).epsilon(0.04));
+    for (int c = 0; c < 3; ++c) CHECK(lut[c] == doctest::Approx(ref[c]).epsilon(p.tolerance).scale(0.0));
   }
   CHECK(ms.clamped_texels() == 0);
   CHECK(ms.max_fms_seen() > 0.05f);
