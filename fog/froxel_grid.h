@@ -53,6 +53,11 @@ class FroxelGrid {
     return std::log(1.0f + cf_ * (d - near_)) * slice_scale_;
   }
 
+  // slice_coord's terms, for loops that take their own log:
+  // slice_coord(d) = log(1 + log_c() (d - near)) * log_scale() for d in [near, far].
+  float log_c() const { return cf_; }
+  float log_scale() const { return slice_scale_; }
+
   // Slice containing a distance (clamped to [near, far]; far is in the last
   // slice), exact against boundary(): a table over distance gives a slice at
   // or below the answer and a few boundary compares finish it, no log.

@@ -1,7 +1,9 @@
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 
+#include "fog/fast_log.h"
 #include "fog/froxel_grid.h"
 #include "fog/jitter_sequence.h"
 
@@ -87,4 +89,20 @@ TEST_CASE("slice_of finds the slice whose boundaries bracket a distance") {
     CHECK(g.slice_of(0.0f) == 0);
     CHECK(g.slice_of(INFINITY) == 63);
   }
+}
+
+TEST_CASE("fast_log matches log over the slice encoding's range, and log_c/log_scale give slice_coord") {
+  // The encoding's argument 1 + c (d - near) lies in [1, 1 + 2 fog_distance]
+  // (c <= 2); the reprojection takes slice coordinates from fast_log.
+  double worst = 0.0;
+  for (float x = 1.0f; x < 4096.0f; x = std::nextafter(x * 1.001f, 1e9f)) {
+    const double exact = std::log(double(x));
+    worst = std::max(worst, std::abs(double(fast_log(x)) - exact) / std::max(exact, 0.01));
+  }
+  CHECK(worst < 3e-7);
+  CHECK(fast_log(1.0f) == 0.0f);
+  const FroxelGrid g(1280, 720, 8, 64, 0.1f, 128.0f, 0.75f);
+  for (float d = 0.1f; d <= 128.1f; d *= 1.21f)
+    CHECK(fast_log(1.0f + g.log_c() * (d - g.near_distance())) * g.log_scale() ==
+          doctest::Approx(g.slice_coord(d)).epsilon(1e-5));
 }
