@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <cstring>
 #include <vector>
 
 #include "atmosphere/fast_math.h"
@@ -130,22 +129,18 @@ struct FroxelVolume {
   int width, height;  // of the LUT; the packed rows hold width + 1 texels, the slices height + 1 rows
 };
 
-// A froxel texel (luminance and transmittance) as one 8-float vector: one
-// 256-bit operation per lerp where AVX is available, two SSE ones otherwise,
-// with the same lane-wise IEEE results either way.
-using Float8 = float __attribute__((vector_size(32)));
-
-// Bilinear blend of the texels at r, r + dx, r + dy, r + dx + dy (offsets in
-// floats). Results by reference: a 32-byte vector is not returned by value,
-// whose ABI differs between AVX and baseline builds.
-inline void bilinear8(const float* r, size_t dx, size_t dy, const Float8& wx, const Float8& wy, Float8& out) {
-  Float8 a, b, c, d;
-  std::memcpy(&a, r, sizeof a);
-  std::memcpy(&b, r + dx, sizeof b);
-  std::memcpy(&c, r + dy, sizeof c);
-  std::memcpy(&d, r + dy + dx, sizeof d);
-  const Float8 top = a + (b - a) * wx, bottom = c + (d - c) * wx;
-  out = top + (bottom - top) * wy;
+// Bilinear blend of the froxel texels at r, r + dx, r + dy, r + dx + dy
+// (offsets in floats): luminance (floats 0-3) and transmittance (4-7) as two
+// SSE vectors. (An 8-float vector would be one AVX operation, but built for
+// the SSE baseline GCC splits it through the stack, and the reloads stall.)
+inline void bilinear_froxel(const float* r, size_t dx, size_t dy, const Float4& wx, const Float4& wy, Float4& l,
+                            Float4& t) {
+  const Float4 la = load4(r), lb = load4(r + dx), lc = load4(r + dy), ld = load4(r + dy + dx);
+  const Float4 ta = load4(r + 4), tb = load4(r + dx + 4), tc = load4(r + dy + 4), td = load4(r + dy + dx + 4);
+  const Float4 l_top = la + (lb - la) * wx, l_bottom = lc + (ld - lc) * wx;
+  const Float4 t_top = ta + (tb - ta) * wx, t_bottom = tc + (td - tc) * wx;
+  l = l_top + (l_bottom - l_top) * wy;
+  t = t_top + (t_bottom - t_top) * wy;
 }
 
 // Per-tile working memory, one per thread.
@@ -207,25 +202,24 @@ void apply_froxels(const FroxelRow& c, const FroxelVolume& v, size_t n, const in
   const Float4 one = {1.0f, 1.0f, 1.0f, 0.0f};
   const float* texels = reinterpret_cast<const float*>(v.texels);
   for (size_t j = 0; j < n; ++j) {
-    const float ax = wx[j], ay = wy[j], az = wz[j];
-    const Float8 x8 = {ax, ax, ax, ax, ax, ax, ax, ax}, y8 = {ay, ay, ay, ay, ay, ay, ay, ay};
+    const Float4 x4 = splat4(wx[j]), y4 = splat4(wy[j]);
+    const float az = wz[j];
     const float* q = texels + 8 * size_t(texel[j]);
-    Float8 t;
-    bilinear8(q, dx, dy, x8, y8, t);
+    Float4 l, t;
+    bilinear_froxel(q, dx, dy, x4, y4, l, t);
     if (az != 0.0f) {
-      Float8 back;
-      bilinear8(q + dz, dx, dy, x8, y8, back);
-      const Float8 z8 = {az, az, az, az, az, az, az, az};
-      t = t + (back - t) * z8;
+      Float4 l_back, t_back;
+      bilinear_froxel(q + dz, dx, dy, x4, y4, l_back, t_back);
+      const Float4 z4 = splat4(az);
+      l = l + (l_back - l) * z4;
+      t = t + (t_back - t) * z4;
     }
-    const float nw = near_w[j];
-    const Float4 near = {nw, nw, nw, nw};
-    const Float4 l = __builtin_shufflevector(t, t, 0, 1, 2, 3) * near;
-    const Float4 tr = one + (__builtin_shufflevector(t, t, 4, 5, 6, 7) - one) * near;
+    const Float4 near = splat4(near_w[j]);
+    l = l * near;
+    const Float4 tr = one + (t - one) * near;
     glm::vec3& out = color[index[j]];
-    const Float4 in = {out.x, out.y, out.z, 0.0f};
-    const Float4 r = in * tr + l * illuminance;
-    out = glm::vec3(r[0], r[1], r[2]);
+    const Float4 r = to_float4(out) * tr + l * illuminance;
+    out = to_vec3(r);
   }
 }
 
