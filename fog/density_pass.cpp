@@ -1,6 +1,7 @@
 // fog.density: voxelisation of the medium into the froxel grid (HDRP's
-// "clear + height fog" and "fog volume" passes in one). Each froxel takes the
-// density at its centre (log-space slice centre on the column's centre ray).
+// "clear + height fog" and "fog volume" passes in one) along each column's
+// centre ray: the height fog at the slice centre, and where volumes lie the
+// mean over stratified points of the slice (see DensityPlan).
 #include <algorithm>
 #include <cmath>
 
@@ -78,12 +79,19 @@ std::vector<VolumeFootprint> volume_footprints(const FroxelView& view, const Fog
   return out;
 }
 
-DensityPlan plan_density(const FroxelView& view, const FogMedium& medium) {
+DensityPlan plan_density(const FroxelView& view, const FogMedium& medium, int samples) {
   const FroxelGrid& g = view.grid;
   DensityPlan plan;
   plan.footprints = volume_footprints(view, medium);
+  plan.samples = std::max(samples, 1);
   plan.centers.resize(size_t(g.nz()));
-  for (int k = 0; k < g.nz(); ++k) plan.centers[size_t(k)] = g.center(k);
+  plan.sample_t.resize(size_t(g.nz()) * size_t(plan.samples));
+  for (int k = 0; k < g.nz(); ++k) {
+    plan.centers[size_t(k)] = g.center(k);
+    for (int s = 0; s < plan.samples; ++s)
+      plan.sample_t[size_t(k) * plan.samples + size_t(s)] =
+          g.boundary(k) + g.thickness(k) * ((float(s) + 0.5f) / float(plan.samples));
+  }
   plan.stats.visible_volumes = int(plan.footprints.size());
   for (const VolumeFootprint& f : plan.footprints)
     plan.stats.volume_froxels += size_t(f.x1 - f.x0 + 1) * size_t(f.y1 - f.y0 + 1) * size_t(f.k1 - f.k0 + 1);
@@ -94,7 +102,9 @@ void voxelize_rows(const FroxelView& view, const FogMedium& medium, const Densit
                    std::vector<FogDensity>& density) {
   const FroxelGrid& g = view.grid;
   const int nx = g.nx();
+  const int samples = plan.samples;
   const float* centers = plan.centers.data();
+  std::vector<const VolumeFootprint*> covering;
   for (int y = y0; y < y1; ++y)
     for (int x = 0; x < nx; ++x) {
       const size_t c = size_t(y) * nx + x;
@@ -103,18 +113,34 @@ void voxelize_rows(const FroxelView& view, const FogMedium& medium, const Densit
       FogDensity* column = density.data() + g.index(x, y, 0);
       medium.height_fog_column(dir, centers, n, column);
       // Volumes in file order: the blend result does not depend on scheduling.
+      covering.clear();
+      int k_begin = n, k_end = 0;
       for (const VolumeFootprint& f : plan.footprints) {
         if (x < f.x0 || x > f.x1 || y < f.y0 || y > f.y1) continue;
-        const PlacedFogVolume& v = medium.volumes()[size_t(f.volume)];
-        for (int k = f.k0; k <= std::min(f.k1, n - 1); ++k) medium.apply_volume(v, dir * centers[k], column[k]);
+        covering.push_back(&f);
+        k_begin = std::min(k_begin, f.k0);
+        k_end = std::max(k_end, std::min(f.k1 + 1, n));
+      }
+      for (int k = k_begin; k < k_end; ++k) {
+        FogDensity sum;
+        for (int s = 0; s < samples; ++s) {
+          const glm::vec3 p = dir * (samples == 1 ? centers[k] : plan.sample_t[size_t(k) * samples + size_t(s)]);
+          FogDensity d = samples == 1 ? column[k] : medium.height_fog(p);
+          for (const VolumeFootprint* f : covering)
+            if (k >= f->k0 && k <= f->k1) medium.apply_volume(medium.volumes()[size_t(f->volume)], p, d);
+          sum.scattering += d.scattering;
+          sum.extinction += d.extinction;
+        }
+        const float inv = 1.0f / float(samples);
+        column[k] = FogDensity{sum.scattering * inv, sum.extinction * inv};
       }
     }
 }
 
-VoxelizeStats voxelize_density(const FroxelView& view, const FogMedium& medium, JobSystem& jobs,
+VoxelizeStats voxelize_density(const FroxelView& view, const FogMedium& medium, int samples, JobSystem& jobs,
                                std::vector<FogDensity>& density) {
   density.resize(view.grid.count());
-  const DensityPlan plan = plan_density(view, medium);
+  const DensityPlan plan = plan_density(view, medium, samples);
   jobs.parallel_for("fog.density", size_t(view.grid.ny()), 1, [&](size_t begin, size_t end) {
     voxelize_rows(view, medium, plan, int(begin), int(end), density);
   });

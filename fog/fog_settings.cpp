@@ -87,12 +87,13 @@ FogVolume parse_volume(const JsonObject& o) {
 FogProfileSettings parse_fog_profile(const nlohmann::json& section, const std::string& file) {
   FogProfileSettings s;
   const JsonObject o(section, file, "fog");
-  o.allow_only({"froxel_size_px", "slices", "fog_distance", "slice_uniformity", "history_weight", "filter",
-                "jitter", "reprojection", "history_clamp"});
+  o.allow_only({"froxel_size_px", "slices", "fog_distance", "slice_uniformity", "density_samples",
+                "history_weight", "filter", "jitter", "reprojection", "history_clamp"});
   if (o.has("froxel_size_px")) s.froxel_size_px = o.integer("froxel_size_px", 1, 256);
   if (o.has("slices")) s.slices = o.integer("slices", 1, 1024);
   if (o.has("fog_distance")) s.fog_distance = float(o.number("fog_distance", {0.01, 1e7}));
   if (o.has("slice_uniformity")) s.slice_uniformity = float(o.number("slice_uniformity", kUnit));
+  if (o.has("density_samples")) s.density_samples = o.integer("density_samples", 1, 64);
   if (o.has("history_weight")) s.history_weight = float(o.number("history_weight", {0.0, 1.0, false, true}));
   if (o.has("filter")) s.filter = o.boolean("filter");
   if (o.has("jitter")) s.jitter = o.boolean("jitter");

@@ -16,6 +16,7 @@ struct FogProfileSettings {
   int slices = 64;                 // depth slices
   float fog_distance = 64.0f;      // metres covered by the grid beyond the near plane
   float slice_uniformity = 0.75f;  // 0 = logarithmic slices, 1 = linear
+  int density_samples = 4;         // points per slice averaged where local volumes lie (1 = centre)
   float history_weight = 6.0f / 7.0f;
   bool filter = true;              // 3x3 Gaussian per slice
   bool jitter = true;              // 7-frame sample sequence

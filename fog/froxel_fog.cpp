@@ -22,7 +22,7 @@ void FroxelFog::begin_frame(const FrameView& view, JobSystem& jobs, const std::v
 }
 
 void FroxelFog::density() {
-  density_plan_ = plan_density(view_, medium_);
+  density_plan_ = plan_density(view_, medium_, profile_.density_samples);
   stats_.voxelize = density_plan_.stats;
   density_.resize(view_.grid.count());
 }

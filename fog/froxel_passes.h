@@ -66,17 +66,27 @@ struct VoxelizeStats {
 // footprint (lit froxels only). In steps: the frame's plan (footprints, slice
 // centres), then any rows of columns (the plugin voxelises each row right
 // before lighting it, while the row is in cache; see light_froxels).
+//
+// Where a volume's footprint lies, a froxel takes the mean of the whole blend
+// (height fog, then every volume in file order) at `samples` stratified
+// points along the slice: volume edges, fades and noise are finer than a
+// slice (1-2 m deep at 20-40 m), so one point per slice aliases them, and
+// history cannot recover detail that was never sampled. The mean density
+// gives the slice's exact optical depth along the column's centre ray.
+// Elsewhere the height fog is smooth and one centre point suffices.
 struct DensityPlan {
   std::vector<VolumeFootprint> footprints;
   std::vector<float> centers;  // per slice: its centre distance
+  int samples = 1;             // points per slice where volumes lie
+  std::vector<float> sample_t; // per slice, `samples` stratified distances
   VoxelizeStats stats;
 };
-DensityPlan plan_density(const FroxelView& view, const FogMedium& medium);
+DensityPlan plan_density(const FroxelView& view, const FogMedium& medium, int samples);
 // Rows [y0, y1) of `density` (sized to the grid by the caller).
 void voxelize_rows(const FroxelView& view, const FogMedium& medium, const DensityPlan& plan, int y0, int y1,
                    std::vector<FogDensity>& density);
 // All rows, in parallel.
-VoxelizeStats voxelize_density(const FroxelView& view, const FogMedium& medium, JobSystem& jobs,
+VoxelizeStats voxelize_density(const FroxelView& view, const FogMedium& medium, int samples, JobSystem& jobs,
                                std::vector<FogDensity>& density);
 
 struct JitterInputs {

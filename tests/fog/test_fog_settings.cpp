@@ -30,6 +30,7 @@ TEST_CASE("profile fog section: defaults and values") {
   CHECK(d.slice_uniformity == 0.75f);
   CHECK(d.history_weight == doctest::Approx(6.0 / 7.0));
   CHECK(d.filter);
+  CHECK(d.density_samples == 4);
   CHECK(d.jitter);
   CHECK(d.reprojection);
   const FogProfileSettings s = parse_fog_profile(
@@ -44,6 +45,8 @@ TEST_CASE("profile fog section: bad input names file and field") {
   CHECK(error_of([] { parse_fog_profile(json{{"slice", 3}}, "p.json"); }).find("p.json: unknown key 'fog.slice'") == 0);
   CHECK(error_of([] { parse_fog_profile(json{{"slices", 0}}, "p.json"); }).find("'fog.slices'") != std::string::npos);
   CHECK(error_of([] { parse_fog_profile(json{{"history_weight", 1.0}}, "p.json"); }).find("'fog.history_weight'") !=
+        std::string::npos);
+  CHECK(error_of([] { parse_fog_profile(json{{"density_samples", 0}}, "p.json"); }).find("'fog.density_samples'") !=
         std::string::npos);
   CHECK(error_of([] { parse_fog_profile(json{{"filter", "yes"}}, "p.json"); }).find("'fog.filter'") !=
         std::string::npos);

@@ -92,8 +92,8 @@ TEST_CASE("volumes outside the view cost nothing and only overlapped froxels cha
   m0.set_camera(cam.position);
   m1.set_camera(cam.position);
   std::vector<FogDensity> d0, d1;
-  voxelize_density(view, m0, jobs, d0);
-  const VoxelizeStats st = voxelize_density(view, m1, jobs, d1);
+  voxelize_density(view, m0, 1, jobs, d0);
+  const VoxelizeStats st = voxelize_density(view, m1, 1, jobs, d1);
   CHECK(st.visible_volumes == 0);
   CHECK(st.volume_froxels == 0);
   for (size_t i = 0; i < d0.size(); ++i) CHECK(d0[i].extinction == d1[i].extinction);
@@ -103,7 +103,7 @@ TEST_CASE("volumes outside the view cost nothing and only overlapped froxels cha
   FogMedium m2(one);
   m2.set_camera(cam.position);
   std::vector<FogDensity> d2;
-  const VoxelizeStats s2 = voxelize_density(view, m2, jobs, d2);
+  const VoxelizeStats s2 = voxelize_density(view, m2, 1, jobs, d2);
   REQUIRE(s2.visible_volumes == 1);
   CHECK(s2.volume_froxels < grid.count() / 20);  // a small box touches a small footprint
   const VolumeFootprint f = volume_footprints(view, m2)[0];
@@ -121,6 +121,40 @@ TEST_CASE("volumes outside the view cost nothing and only overlapped froxels cha
         CHECK(std::abs(c.z + 12.0f) <= 1.5f);
       }
   CHECK(changed > 0);
+}
+
+TEST_CASE("where volumes lie, a froxel takes the slice's mean density (its exact optical depth)") {
+  JobSystem jobs(2);
+  const int w = 160, h = 96;
+  const Camera cam = camera_at({0, 2, 0}, {0, 2, -10}, w, h);
+  FogProfileSettings p;
+  p.slices = 16;
+  const FroxelGrid grid(w, h, p.froxel_size_px, p.slices, cam.znear, p.fog_distance, p.slice_uniformity);
+  const FroxelView view = make_froxel_view(grid, cam, jobs);
+  // A sharp-edged slab across the view whose near face (z = -face) cuts the
+  // middle of slice k along the centre column's ray.
+  const int x = grid.nx() / 2, y = grid.ny() / 2, k = 10;
+  const glm::vec3 dir = view.directions[size_t(y) * grid.nx() + x];
+  const float t_cut = grid.boundary(k) + 0.37f * grid.thickness(k);
+  const float face = -dir.z * t_cut;
+  const float ext = 0.5f;
+  FogSceneSettings s;
+  s.volumes = {box({0, 2, -(face + 50.0)}, {100, 100, 50}, ext, FogBlend::Additive)};
+  FogMedium m(s);
+  m.set_camera(cam.position);
+  const size_t i = grid.index(x, y, k);
+  std::vector<FogDensity> point, mean;
+  voxelize_density(view, m, 1, jobs, point);
+  voxelize_density(view, m, 64, jobs, mean);
+  // Covered fraction of the slice: from the cut to the far boundary.
+  const float covered = (grid.boundary(k + 1) - t_cut) / grid.thickness(k);
+  CHECK(mean[i].extinction == doctest::Approx(ext * covered).epsilon(1.0 / 64.0 / covered));
+  CHECK(mean[i].scattering.x == doctest::Approx(mean[i].extinction));
+  // One point (the slice centre) sees all or nothing.
+  CHECK((point[i].extinction == 0.0f || point[i].extinction == ext));
+  // Slices wholly in front of or behind the face are unchanged by averaging.
+  CHECK(mean[grid.index(x, y, k - 1)].extinction == 0.0f);
+  CHECK(mean[grid.index(x, y, k + 1)].extinction == doctest::Approx(ext));
 }
 
 TEST_CASE("volume shadow lookup agrees with ShadowMap::visibility without PCF") {
