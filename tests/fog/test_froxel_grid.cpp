@@ -91,6 +91,33 @@ TEST_CASE("slice_of finds the slice whose boundaries bracket a distance") {
   }
 }
 
+TEST_CASE("slice_of equals a linear boundary search on dense sweeps, thin log slices included") {
+  struct Case {
+    int slices;
+    float near, distance, uniformity;
+  };
+  for (const Case& c : {Case{64, 0.1f, 64.0f, 0.75f}, Case{64, 0.1f, 96.0f, 0.0f}, Case{1024, 0.05f, 5000.0f, 0.0f},
+                        Case{7, 1.0f, 3.0f, 1.0f}, Case{256, 0.1f, 1e6f, 0.3f}}) {
+    const FroxelGrid g(320, 180, 8, c.slices, c.near, c.distance, c.uniformity);
+    int mismatches = 0;
+    auto linear = [&](float d) {
+      d = std::min(std::max(d, g.near_distance()), g.far_distance());
+      int k = 0;
+      while (k + 1 < g.nz() && d >= g.boundary(k + 1)) ++k;
+      return k;
+    };
+    for (int k = 0; k <= g.nz(); ++k)
+      for (float d : {g.boundary(k), std::nextafter(g.boundary(k), 0.0f), std::nextafter(g.boundary(k), INFINITY)})
+        mismatches += g.slice_of(d) != linear(d);
+    const float span = g.far_distance() - g.near_distance();
+    for (int i = 0; i <= 200000; ++i) {
+      const float d = g.near_distance() + span * float(i) / 200000.0f;
+      mismatches += g.slice_of(d) != linear(d);
+    }
+    CHECK(mismatches == 0);
+  }
+}
+
 TEST_CASE("fast_log matches log over the slice encoding's range, and log_c/log_scale give slice_coord") {
   // The encoding's argument 1 + c (d - near) lies in [1, 1 + 2 fog_distance]
   // (c <= 2); the reprojection takes slice coordinates from fast_log.
