@@ -9,13 +9,18 @@
 // and boundary compares, no log), and the composite sets up each row's and
 // column's bilinear terms once.
 //
-// The composite runs a row of pixels in two steps: the bilinear reads of the
-// slice's near and far values per pixel (scalar: the slice varies per pixel),
-// then the two exponentials and the blend for the whole row as flat loops
-// over SoA arrays, which vectorise (the exponential's polynomial is a long
-// dependency chain, so one pixel at a time leaves the core idle).
+// The composite runs a row of pixels in three steps: the bilinear reads of
+// the slice's near and far values per pixel (the slice varies per pixel; each
+// tap is one 4-wide load of radiance and transmittance), the two
+// exponentials for the whole row as a flat loop that vectorises (the
+// exponential's polynomial is a long dependency chain, so one pixel at a time
+// leaves the core idle), then the blend per pixel, 4 wide.
 #include <algorithm>
 #include <cmath>
+
+#include <cstddef>
+
+#include <smmintrin.h>
 
 #include "fog/froxel_passes.h"
 #include "fog/homogeneous_medium.h"
@@ -40,15 +45,19 @@ Axis axis_at(float p, float inv_size, int n) {
 }
 
 // Pixels inside the grid, between the bilinear reads and the in-slice
-// closed form: near/far in-scattered radiance, near transmittance, the
-// slice's extinction, the distance into the slice and its length. The
-// closed form overwrites l_far with the pixel's in-scatter and t_near with
-// its transmittance.
+// closed form: per pixel the near boundary's (radiance RGB, transmittance)
+// and the far boundary's radiance as 4-float records (a froxel's first four
+// floats, so each bilinear tap is one 4-wide load and multiply-add), and as
+// flat arrays the slice's extinction, the distance into the slice and its
+// length. The closed form's fraction and partial opacity go to `fraction`
+// and `partial`.
 struct SliceBatch {
-  std::vector<float> near_r, near_g, near_b, far_r, far_g, far_b, t_near, sigma, s, dt;
-  explicit SliceBatch(size_t n)
-      : near_r(n), near_g(n), near_b(n), far_r(n), far_g(n), far_b(n), t_near(n), sigma(n), s(n), dt(n) {}
+  std::vector<float> near, far;  // 4 floats per slot
+  std::vector<float> sigma, s, dt, fraction, partial;
+  explicit SliceBatch(size_t n) : near(4 * n), far(4 * n), sigma(n), s(n), dt(n), fraction(n), partial(n) {}
 };
+static_assert(offsetof(IntegratedFroxel, in_scatter) == 0 && offsetof(IntegratedFroxel, transmittance) == 12,
+              "a froxel's radiance and transmittance are its first four floats");
 
 struct Weights {
   size_t at[4];
@@ -78,55 +87,58 @@ void lookup_far(const FroxelGrid& g, const IntegratedFroxel* volume, const Weigh
 }
 
 // The bilinear reads of a pixel inside the grid into slot j of the batch.
+// Lane-wise the same float operations, in the same order, as a sum over the
+// four taps per channel. In the first slice the near boundary is the near
+// plane: no radiance, transmittance 1.
 void gather_slice(const FroxelGrid& g, const IntegratedFroxel* volume, const Weights& wt, float distance,
                   SliceBatch& b, size_t j) {
   const int k = g.slice_of(distance);
-  glm::vec3 l_near(0.0f), l_far(0.0f);
-  float t_near = 0.0f, sigma = 0.0f;
+  __m128 near = _mm_setzero_ps(), far = _mm_setzero_ps();
+  float sigma = 0.0f;
+  const __m128 near_plane = _mm_set_ps(1.0f, 0.0f, 0.0f, 0.0f);
   for (int i = 0; i < 4; ++i) {
     const IntegratedFroxel* c = volume + wt.at[i] + size_t(k);
-    l_far += c->in_scatter * wt.w[i];
+    const __m128 w = _mm_set1_ps(wt.w[i]);
+    far = _mm_add_ps(far, _mm_mul_ps(_mm_loadu_ps(&c->in_scatter.x), w));
     sigma += c->extinction * wt.w[i];
-    if (k > 0) {
-      l_near += c[-1].in_scatter * wt.w[i];
-      t_near += c[-1].transmittance * wt.w[i];
-    } else {
-      t_near += wt.w[i];
-    }
+    near = _mm_add_ps(near, _mm_mul_ps(k > 0 ? _mm_loadu_ps(&c[-1].in_scatter.x) : near_plane, w));
   }
-  b.near_r[j] = l_near.x, b.near_g[j] = l_near.y, b.near_b[j] = l_near.z;
-  b.far_r[j] = l_far.x, b.far_g[j] = l_far.y, b.far_b[j] = l_far.z;
-  b.t_near[j] = t_near;
+  _mm_storeu_ps(&b.near[4 * j], near);
+  _mm_storeu_ps(&b.far[4 * j], far);
   b.sigma[j] = sigma;
   b.s[j] = std::max(distance - g.boundary(k), 0.0f);
   b.dt[j] = g.thickness(k);
 }
 
-// The in-slice closed form for slots [0, n) (branch-free: both divisions run
-// on divisors kept off zero, then the same selects as the scalar form
-// "whole > 1e-12 ? partial / whole : (dt > 0 ? s / dt : 1)"). Restrict
-// parameters, so the compiler knows the arrays apart and vectorises.
-void resolve_slices(
-    size_t n, const float* __restrict sigma, const float* __restrict s, const float* __restrict dt,
-    const float* __restrict near_r, const float* __restrict near_g, const float* __restrict near_b,
-    float* __restrict far_r, float* __restrict far_g, float* __restrict far_b, float* __restrict t_near) {
+// The in-slice closed form's terms for slots [0, n) (branch-free: both
+// divisions run on divisors kept off zero, then the same selects as the
+// scalar form "whole > 1e-12 ? partial / whole : (dt > 0 ? s / dt : 1)").
+// Restrict parameters, so the compiler knows the arrays apart and vectorises.
+void slice_fractions(size_t n, const float* __restrict sigma, const float* __restrict s,
+                     const float* __restrict dt, float* __restrict fraction, float* __restrict partial) {
   for (size_t j = 0; j < n; ++j) {
-    const float partial = opacity_of(sigma[j] * s[j]);
+    const float p = opacity_of(sigma[j] * s[j]);
     const float whole = opacity_of(sigma[j] * dt[j]);
     const bool has_medium = whole > 1e-12f, has_length = dt[j] > 0.0f;
-    const float by_opacity = partial / (has_medium ? whole : 1.0f);
+    const float by_opacity = p / (has_medium ? whole : 1.0f);
     const float by_length = s[j] / (has_length ? dt[j] : 1.0f);
-    const float fraction = has_medium ? by_opacity : (has_length ? by_length : 1.0f);
-    far_r[j] = near_r[j] + (far_r[j] - near_r[j]) * fraction;
-    far_g[j] = near_g[j] + (far_g[j] - near_g[j]) * fraction;
-    far_b[j] = near_b[j] + (far_b[j] - near_b[j]) * fraction;
-    t_near[j] = t_near[j] * (1.0f - partial);
+    fraction[j] = has_medium ? by_opacity : (has_length ? by_length : 1.0f);
+    partial[j] = p;
   }
 }
 
+// Slot j's in-scattered radiance (lanes 0-2) and transmittance (lane 3):
+// near + (far - near) * fraction and T_near (1 - partial).
+inline __m128 resolve_slot(const SliceBatch& b, size_t j) {
+  const __m128 near = _mm_loadu_ps(&b.near[4 * j]);
+  const __m128 far = _mm_loadu_ps(&b.far[4 * j]);
+  const __m128 l = _mm_add_ps(near, _mm_mul_ps(_mm_sub_ps(far, near), _mm_set1_ps(b.fraction[j])));
+  const __m128 t = _mm_mul_ps(near, _mm_set1_ps(1.0f - b.partial[j]));
+  return _mm_blend_ps(l, t, 0x8);
+}
+
 void resolve_slices(SliceBatch& b, size_t n) {
-  resolve_slices(n, b.sigma.data(), b.s.data(), b.dt.data(), b.near_r.data(), b.near_g.data(), b.near_b.data(),
-                 b.far_r.data(), b.far_g.data(), b.far_b.data(), b.t_near.data());
+  slice_fractions(n, b.sigma.data(), b.s.data(), b.dt.data(), b.fraction.data(), b.partial.data());
 }
 
 }  // namespace
@@ -145,8 +157,10 @@ void lookup_fog(const FroxelGrid& g, const std::vector<IntegratedFroxel>& volume
   SliceBatch b(1);
   gather_slice(g, volume.data(), wt, distance, b, 0);
   resolve_slices(b, 1);
-  in_scatter = glm::vec3(b.far_r[0], b.far_g[0], b.far_b[0]);
-  transmittance = b.t_near[0];
+  alignas(16) float v[4];
+  _mm_store_ps(v, resolve_slot(b, 0));
+  in_scatter = glm::vec3(v[0], v[1], v[2]);
+  transmittance = v[3];
 }
 
 void composite_fog(const FroxelGrid& grid, const std::vector<IntegratedFroxel>& volume,
@@ -179,8 +193,10 @@ void composite_fog(const FroxelGrid& grid, const std::vector<IntegratedFroxel>& 
     }
     resolve_slices(batch, n);
     for (size_t j = 0; j < n; ++j) {
+      alignas(16) float v[4];
+      _mm_store_ps(v, resolve_slot(batch, j));
       glm::vec3& c = color[pixel[j]];
-      c = c * batch.t_near[j] + glm::vec3(batch.far_r[j], batch.far_g[j], batch.far_b[j]);
+      c = c * v[3] + glm::vec3(v[0], v[1], v[2]);
     }
   }
 }
