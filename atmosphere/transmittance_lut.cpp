@@ -96,20 +96,4 @@ void TransmittanceLut::bake(size_t begin, size_t end) {
   }
 }
 
-TransmittanceRow TransmittanceLut::row(float altitude) const {
-  const float R = mapping_.ground_radius;
-  const float h = std::clamp(altitude, 0.0f, mapping_.top_altitude);
-  TransmittanceRow row;
-  row.r = R + h;
-  const float rho = std::sqrt(h * (2.0f * R + h));
-  row.d_min = mapping_.top_altitude - h;
-  const float d_range = rho + mapping_.horizon_top - row.d_min;
-  row.inv_d_range = d_range > 0.0f ? 1.0f / d_range : 0.0f;
-  row.top2_minus_r2 = (mapping_.top_altitude - h) * (2.0f * R + mapping_.top_altitude + h);
-  row.mu_horizon = -rho / row.r;
-  row.penumbra = sin_sun_radius_ * (R / row.r);
-  row.y = lut_coord(rho / mapping_.horizon_top * float(image_.height - 1), image_.height);
-  return row;
-}
-
 }  // namespace cr

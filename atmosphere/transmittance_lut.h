@@ -94,6 +94,23 @@ inline void sun_lookup(const TransmittanceRow& row, int width, float mu_s, int& 
   w = x - float(x0);
 }
 
+inline TransmittanceRow TransmittanceLut::row(float altitude) const {
+  const float R = mapping_.ground_radius;
+  // Selects, not std::clamp: inlined into the batched lookups' loops, it vectorizes.
+  const float h = altitude < 0.0f ? 0.0f : (mapping_.top_altitude < altitude ? mapping_.top_altitude : altitude);
+  TransmittanceRow row;
+  row.r = R + h;
+  const float rho = std::sqrt(h * (2.0f * R + h));
+  row.d_min = mapping_.top_altitude - h;
+  const float d_range = rho + mapping_.horizon_top - row.d_min;
+  row.inv_d_range = d_range > 0.0f ? 1.0f / d_range : 0.0f;
+  row.top2_minus_r2 = (mapping_.top_altitude - h) * (2.0f * R + mapping_.top_altitude + h);
+  row.mu_horizon = -rho / row.r;
+  row.penumbra = sin_sun_radius_ * (R / row.r);
+  row.y = lut_coord(rho / mapping_.horizon_top * float(image_.height - 1), image_.height);
+  return row;
+}
+
 inline glm::vec3 TransmittanceLut::to_top(const TransmittanceRow& row, float mu) const {
   mu = std::clamp(mu, row.mu_horizon, 1.0f);
   const float d = -row.r * mu + std::sqrt(std::max(row.r * row.r * mu * mu + row.top2_minus_r2, 0.0f));

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "atmosphere/aerial_perspective_lut.h"
+#include "atmosphere/froxel_column.h"
 #include "atmosphere/phase_functions.h"
 #include "atmosphere/planet_geometry.h"
 #include "atmosphere/scattering_march.h"
@@ -89,6 +90,42 @@ TEST_CASE("a sky-view row shaded in one batch equals shading each direction alon
         CHECK(same_bits(batch[j].mie_unphased, ref.mie_unphased));
         CHECK(same_bits(one.rest, ref.rest));
         CHECK(same_bits(one.mie_unphased, ref.mie_unphased));
+      }
+    }
+  }
+}
+
+TEST_CASE("a column's runs shaded at once equal accumulating and shading each run alone, bit for bit") {
+  for (double zenith : {30.0, 89.0, 93.0}) {  // day, the shadow's penumbra, sun below the horizon
+    const Luts l(zenith);
+    const AtmosphereLuts luts = l.get();
+    const float mu_s = float(std::cos(zenith * M_PI / 180.0));
+    const size_t run = 3, runs = 7;  // an odd step count: the vector loop's remainder too
+    MarchSteps steps;
+    steps.resize(run * runs);
+    for (size_t k = 0; k < run * runs; ++k) {
+      steps.dt[k] = 150.0f * float(k + 1);
+      steps.t[k] = 75.0f * float((k + 1) * (k + 1));
+    }
+    for (float mu : {0.6f, 0.01f, -0.2f}) {  // up, grazing, down (samples pushed up to the floor)
+      for (float nu : {1.0f, 0.3f, -0.9f}) {
+        const float h0 = 5.0f;
+        march_media(luts.model, h0, mu, 5.0f, steps);
+        std::vector<ShadedRay> shaded(runs);
+        std::vector<glm::vec3> transmittance(runs);
+        shade_runs(luts, steps, h0, mu_s, nu, run, shaded.data(), transmittance.data());
+        MarchedRay ray;
+        for (size_t r = 0; r < runs; ++r) {
+          accumulate(luts, steps, r * run, (r + 1) * run, h0, ray);
+          const ShadedRay ref = shade_split(luts, ray, mu_s, nu);
+          CAPTURE(zenith);
+          CAPTURE(mu);
+          CAPTURE(nu);
+          CAPTURE(r);
+          CHECK(same_bits(shaded[r].rest, ref.rest));
+          CHECK(same_bits(shaded[r].mie_unphased, ref.mie_unphased));
+          CHECK(same_bits(transmittance[r], ray.transmittance));
+        }
       }
     }
   }
