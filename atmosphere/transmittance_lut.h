@@ -54,6 +54,9 @@ class TransmittanceLut {
   // zero in the planet's shadow, smooth over the sun disk's size.
   glm::vec3 sun(const TransmittanceRow& row, float mu_s) const;
   glm::vec3 sun(float altitude, float mu_s) const { return sun(row(altitude), mu_s); }
+  // sun(altitude[i], mu_s[i]) into out[i] for n points, bit for bit: the rows
+  // and texel coordinates of many points come from one loop that vectorizes.
+  void sun_batch(const float* altitude, const float* mu_s, size_t n, glm::vec3* out) const;
 
   const LutImage& image() const { return image_; }
   const float* packed() const { return packed_.data(); }  // the image as rgb + pad (see float4.h)

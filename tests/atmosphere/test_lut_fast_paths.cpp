@@ -190,3 +190,26 @@ TEST_CASE("packed texel copies equal the LUT images, the froxel padding repeats 
         REQUIRE(same_bits(p.transmittance, ap.transmittance().at(sx, sy, z)));
       }
 }
+
+TEST_CASE("batched sun transmittance lookups equal TransmittanceLut::sun, bit for bit") {
+  const Luts l(45.0);
+  const TransmittanceLut& t = *l.scheduler.multiscattering_source();
+  // Altitudes under the ground, on it, across the atmosphere and above its top; sun
+  // cosines past both ends, through the shadow's penumbra at each altitude's horizon.
+  std::vector<float> altitude, mu_s;
+  for (float h : {-50.0f, 0.0f, 1.5f, 320.0f, 4000.0f, 25000.0f, 99999.0f, 1.2e5f})
+    for (int j = 0; j <= 40; ++j) {
+      altitude.push_back(h);
+      mu_s.push_back(-1.1f + 0.055f * float(j));
+      const float horizon = t.row(h).mu_horizon;
+      altitude.push_back(h);
+      mu_s.push_back(horizon + 0.0002f * float(j - 20));
+    }
+  std::vector<glm::vec3> batch(altitude.size());
+  t.sun_batch(altitude.data(), mu_s.data(), altitude.size(), batch.data());  // more than one chunk, a remainder
+  for (size_t i = 0; i < altitude.size(); ++i) {
+    CAPTURE(altitude[i]);
+    CAPTURE(mu_s[i]);
+    CHECK(same_bits(batch[i], t.sun(altitude[i], mu_s[i])));
+  }
+}
