@@ -492,8 +492,17 @@ void composite_sky(const SkyFrame& f, FrameBuffers& buffers, int x0, int y0, int
     const int* froxel_index = s.identity.data();
     const float* froxel_sx = s.sx.data();
     const float* froxel_distance = distance;
+    // A row of sky only (the common case above the horizon) lists only its exact pixels:
+    // the interpolated blocks are filled block by block below.
+    const bool all_sky = size_t(row_sky) == n;
     if (n_special == 0) {
       n_froxel = n;
+    } else if (all_sky) {
+      for (size_t k = 0; k < n; ++k) {
+        s.sky[n_sky] = int(k);
+        n_sky += exact_blocks[k / kBlock] != 0 ? 1 : 0;
+      }
+      n_interp = n - n_sky;
     } else {
       for (size_t k = 0; k < n; ++k) {
         const bool sky = depth[k] == 0.0f;
@@ -519,10 +528,19 @@ void composite_sky(const SkyFrame& f, FrameBuffers& buffers, int x0, int y0, int
       const glm::vec3* g0 = s.grid.data() + size_t(bj) * gw;
       const glm::vec3* g1 = g0 + gw;
       for (size_t i = 0; i < gw; ++i) s.edge[i] = g0[i] + (g1[i] - g0[i]) * wy;
-      for (size_t j = 0; j < n_interp; ++j) {
-        const size_t k = size_t(s.interp[j]);
-        const size_t bi = k / size_t(kBlock);
-        color[k] = s.edge[bi] + (s.edge[bi + 1] - s.edge[bi]) * s.wx[k];
+      if (all_sky) {
+        for (size_t bi = 0; bi < size_t(nbx); ++bi) {
+          if (exact_blocks[bi] != 0) continue;
+          const glm::vec3 left = s.edge[bi], step = s.edge[bi + 1] - s.edge[bi];
+          const size_t end = std::min(n, (bi + 1) * size_t(kBlock));
+          for (size_t k = bi * size_t(kBlock); k < end; ++k) color[k] = left + step * s.wx[k];
+        }
+      } else {
+        for (size_t j = 0; j < n_interp; ++j) {
+          const size_t k = size_t(s.interp[j]);
+          const size_t bi = k / size_t(kBlock);
+          color[k] = s.edge[bi] + (s.edge[bi + 1] - s.edge[bi]) * s.wx[k];
+        }
       }
     }
 
