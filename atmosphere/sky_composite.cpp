@@ -259,6 +259,7 @@ void apply_froxels(const FroxelRow& c, const FroxelVolume& v, size_t n, const in
 // value departs from the interpolation (the forward Mie peak); those are
 // evaluated per pixel.
 constexpr int kBlock = 8;
+constexpr int kPrefetchRows = 4;
 constexpr float kBlockTolerance = 3e-3f;  // relative, at the block centre: far below the LUT's own error
 
 // Grid coordinate i of a tile span [a, b): pixel a + i * kBlock, the last one clamped to b - 1.
@@ -468,9 +469,11 @@ void composite_sky(const SkyFrame& f, FrameBuffers& buffers, int x0, int y0, int
     const float* depth = buffers.depth.data() + row;
     const float* distance = buffers.distance.data() + row;
     glm::vec3* color = buffers.color.data() + row;
-    if (y + 1 < y1) {
-      // The next row of the tile is another stream for the hardware prefetcher: start it now.
-      const size_t next = row + size_t(w);
+    if (y + kPrefetchRows < y1) {
+      // A later row of the tile is another stream for the hardware prefetcher, which does not
+      // catch these short (256-byte) rows in time: start it now. (One row ahead, the first
+      // pass over a row still stalled on its loads.)
+      const size_t next = row + size_t(kPrefetchRows) * size_t(w);
       for (size_t k = 0; k < n; k += 16) {
         __builtin_prefetch(buffers.depth.data() + next + k);
         __builtin_prefetch(buffers.distance.data() + next + k);
