@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
+#include "atmosphere/froxel_column.h"
 #include "atmosphere/phase_functions.h"
 
 namespace cr {
@@ -59,7 +61,8 @@ void AerialPerspectiveLut::bake(size_t begin, size_t end, const AtmosphereLuts& 
     t_begin = t_end;
   }
   const float h_start = std::max(h0, 0.0f);
-  MarchedRay ray;
+  std::vector<ShadedRay> shaded(static_cast<size_t>(depth));
+  std::vector<glm::vec3> slice_transmittance(static_cast<size_t>(depth));
   for (size_t c = begin; c < end; ++c) {
     const int x = int(c % size_t(w));
     const int y = int(c / size_t(w));
@@ -67,14 +70,13 @@ void AerialPerspectiveLut::bake(size_t begin, size_t end, const AtmosphereLuts& 
     const float mu = float(glm::dot(glm::dvec3(dir), up0));
     const float nu = std::clamp(glm::dot(dir, camera_.sun_direction), -1.0f, 1.0f);
     const float mie_phase_value = mie_phase(m, nu);  // constant along the column
-    // The whole column's medium at once, then slice by slice, front to back.
+    // The whole column's medium and each slice's scattering at once, then the slices front to back.
     march_media(m, h_start, mu, floor_altitude, column);
+    shade_runs(luts, column, h_start, mu_s, nu, size_t(steps_per_slice_), shaded.data(), slice_transmittance.data());
     glm::vec3 l(0.0f), t(1.0f);
     for (int s = 0; s < depth; ++s) {
-      const size_t first = size_t(s) * size_t(steps_per_slice_);
-      accumulate(luts, column, first, first + size_t(steps_per_slice_), h_start, ray);
-      l += t * shade_split(luts, ray, mu_s, nu).total(mie_phase_value);
-      t *= ray.transmittance;
+      l += t * shaded[size_t(s)].total(mie_phase_value);
+      t *= slice_transmittance[size_t(s)];
       luminance_.at(x, y, s) = l;
       transmittance_.at(x, y, s) = t;
       const FroxelTexel texel = {{l.x, l.y, l.z, 0.0f}, {t.x, t.y, t.z, 0.0f}};

@@ -159,8 +159,9 @@ AltitudeMarch march_altitude(const AtmosphereModel& m, const TransmittanceLut& l
 }
 
 // The sun transmittance lookups of every step of every direction for one sun
-// angle (sin_s, mu_s): one loop that vectorizes.
-void sun_lookups(size_t n, int width, float sin_s, float mu_s, const float* __restrict tx_over_r,
+// angle (sin_s, mu_s): one loop that vectorizes. Out of line: inlined into
+// integrate_sun, GCC loses the restrict qualifiers and runs it scalar.
+__attribute__((noinline)) void sun_lookups(size_t n, int width, float sin_s, float mu_s, const float* __restrict tx_over_r,
                  const float* __restrict y_over_r, const float* __restrict r, const float* __restrict d_min,
                  const float* __restrict inv_d_range, const float* __restrict top2_minus_r2,
                  const float* __restrict mu_horizon, const float* __restrict penumbra, int* __restrict x0,

@@ -48,7 +48,8 @@ enum class StepSpacing { Uniform, Quadratic };
 // caller sets the step centres t and lengths dt (any spacing), march_media()
 // fills the rest in one loop that vectorizes, and accumulate() turns a run of
 // steps into a MarchedRay. march() is these three; the aerial-perspective LUT
-// marches a whole froxel column at once and accumulates it slice by slice.
+// marches a whole froxel column at once and shades it slice by slice
+// (shade_runs, froxel_column.h).
 struct MarchSteps {
   std::vector<float> t, dt;
   std::vector<float> h;                       // altitude (floored)

@@ -32,6 +32,32 @@ glm::vec3 skyview_lookup(const SkyFrame& f, const glm::vec3& dir) {
   return f.skyview->sample(f.skyview->mapping().to_unit(cos_vz, cos_lon), mie_phase(f.model, nu));
 }
 
+// skyview_lookup()'s LUT coordinates (unit square) and Mie phase of n
+// directions, with its operations in its order (glm::dot is (x + y) + z).
+// Selects, restrict pointers, out of line: it vectorizes.
+template <class Phase>
+__attribute__((noinline)) void skyview_coordinates(const SkyFrame& f, const Phase& phase, size_t n,
+                                                   const float* __restrict dx, const float* __restrict dy,
+                                                   const float* __restrict dz, float* __restrict u,
+                                                   float* __restrict v, float* __restrict ph) {
+  const SkyViewMapping map = f.skyview->mapping();
+  const glm::vec3 up = f.up, sun = f.sun, sun_h = f.sun_horizontal;
+  for (size_t i = 0; i < n; ++i) {
+    float cos_vz = dx[i] * up.x + dy[i] * up.y + dz[i] * up.z;
+    cos_vz = cos_vz < -1.0f ? -1.0f : (1.0f < cos_vz ? 1.0f : cos_vz);
+    const float sin2 = 1.0f - cos_vz * cos_vz;
+    const float sin_vz = std::sqrt(0.0f < sin2 ? sin2 : 0.0f);
+    const float along = dx[i] * sun_h.x + dy[i] * sun_h.y + dz[i] * sun_h.z;
+    const float cos_lon = sin_vz > 1e-6f ? along / (sin_vz > 1e-6f ? sin_vz : 1.0f) : 1.0f;
+    float nu = dx[i] * sun.x + dy[i] * sun.y + dz[i] * sun.z;
+    nu = nu < -1.0f ? -1.0f : (1.0f < nu ? 1.0f : nu);
+    const glm::vec2 unit = map.to_unit(cos_vz, cos_lon);
+    u[i] = unit.x;
+    v[i] = unit.y;
+    ph[i] = phase(nu);
+  }
+}
+
 struct FroxelSample {
   glm::vec3 luminance;
   glm::vec3 transmittance;
@@ -153,6 +179,9 @@ struct Scratch {
   std::vector<uint8_t> grid_above;   // grid point above the horizon
   std::vector<float> grid_nu;        // cosine to the sun at the grid points
   std::vector<uint8_t> block_exact;  // per block: evaluate every pixel
+  std::vector<float> dir_x, dir_y, dir_z;  // directions of the grid points, then of the tested block centres
+  std::vector<glm::vec3> centre;           // exact sky at the tested block centres
+  std::vector<int> tested;                 // blocks whose centre is tested
   void resize(size_t n) {
     for (auto* v : {&sx, &row_sx, &dist, &a, &b, &c, &d}) v->resize(n);
     for (auto* v : {&sky, &interp, &froxel, &other, &texel}) v->resize(n);
@@ -230,6 +259,7 @@ void apply_froxels(const FroxelRow& c, const FroxelVolume& v, size_t n, const in
 // value departs from the interpolation (the forward Mie peak); those are
 // evaluated per pixel.
 constexpr int kBlock = 8;
+constexpr int kPrefetchRows = 4;
 constexpr float kBlockTolerance = 3e-3f;  // relative, at the block centre: far below the LUT's own error
 
 // Grid coordinate i of a tile span [a, b): pixel a + i * kBlock, the last one clamped to b - 1.
@@ -254,6 +284,30 @@ glm::vec3 sky_radiance(const SkyFrame& f, const glm::vec3& dir, bool with_sun_di
     if (disk != glm::vec3(0.0f)) l += disk * f.transmittance->to_top(f.camera_row, mu);
   }
   return l;
+}
+
+void sky_radiance_batch(const SkyFrame& f, size_t n, const float* dx, const float* dy, const float* dz,
+                        glm::vec3* out) {
+  if (!f.valid) {
+    std::fill(out, out + n, glm::vec3(0.0f));
+    return;
+  }
+  thread_local std::vector<float> u, v, ph;
+  u.resize(n);
+  v.resize(n);
+  ph.resize(n);
+  const AtmosphereModel& m = f.model;
+  if (m.mie_phase == MiePhaseModel::CornetteShanks)
+    skyview_coordinates(f, [g = m.mie_g](float c) { return cornette_shanks_phase(c, g); }, n, dx, dy, dz, u.data(),
+                        v.data(), ph.data());
+  else
+    skyview_coordinates(
+        f,
+        [g = m.mie_g, g2 = m.mie_g2, lobe = m.mie_lobe_weight](float c) {
+          return lobe * henyey_greenstein_phase(c, g) + (1.0f - lobe) * henyey_greenstein_phase(c, g2);
+        },
+        n, dx, dy, dz, u.data(), v.data(), ph.data());
+  for (size_t i = 0; i < n; ++i) out[i] = f.skyview->sample(glm::vec2(u[i], v[i]), ph[i]) * f.sun_illuminance;
 }
 
 glm::vec3 apply_aerial_perspective(const SkyFrame& f, const glm::vec3& dir, float distance, const glm::vec3& color) {
@@ -334,36 +388,55 @@ void composite_sky(const SkyFrame& f, FrameBuffers& buffers, int x0, int y0, int
   };
   // Built when the first row with sky needs it: a tile of only geometry never does.
   bool grid_ready = false;
+  // The grid points' and then the tested block centres' sky come from sky_radiance_batch (exactly sky_radiance).
+  auto set_direction = [&](size_t k, const glm::vec3& dir) {
+    s.dir_x[k] = dir.x;
+    s.dir_y[k] = dir.y;
+    s.dir_z[k] = dir.z;
+  };
   auto build_grid = [&] {
     grid_ready = true;
+    const size_t points = s.grid.size();
+    for (auto* v : {&s.dir_x, &s.dir_y, &s.dir_z}) v->resize(std::max(points, size_t(nbx) * size_t(nby)));
     for (int j = 0; j <= nby; ++j)
       for (int i = 0; i <= nbx; ++i) {
         const glm::vec3 dir = direction(float(grid_pixel(x0, x1, i)), float(grid_pixel(y0, y1, j)));
         const size_t g_i = size_t(j) * gw + size_t(i);
-        s.grid[g_i] = sky_radiance(f, dir, false);
+        set_direction(g_i, dir);
         s.grid_above[g_i] = glm::dot(dir, f.up) > cos_horizon ? 1 : 0;
         s.grid_nu[g_i] = glm::dot(dir, f.sun);
       }
+    sky_radiance_batch(f, points, s.dir_x.data(), s.dir_y.data(), s.dir_z.data(), s.grid.data());
     // A block's diagonal, as an angle (pixels are largest at the image centre).
     const float block_angle = 1.5f * float(kBlock) * 2.0f * t / float(h);
     const float cos_near_sun = std::cos(std::min(model.sun_angular_radius + block_angle, kPi));
+    s.tested.clear();
     for (int j = 0; j < nby; ++j)
       for (int i = 0; i < nbx; ++i) {
         const size_t c00 = size_t(j) * gw + size_t(i), c10 = c00 + 1, c01 = c00 + gw, c11 = c01 + 1;
         const int above = s.grid_above[c00] + s.grid_above[c10] + s.grid_above[c01] + s.grid_above[c11];
         const float nu = std::max(std::max(s.grid_nu[c00], s.grid_nu[c10]), std::max(s.grid_nu[c01], s.grid_nu[c11]));
-        bool exact = (above != 0 && above != 4) || nu > cos_near_sun;
+        const bool exact = (above != 0 && above != 4) || nu > cos_near_sun;
+        s.block_exact[size_t(j) * size_t(nbx) + size_t(i)] = exact ? 1 : 0;
         if (!exact) {
           const float cx = 0.5f * float(grid_pixel(x0, x1, i) + grid_pixel(x0, x1, i + 1));
           const float cy = 0.5f * float(grid_pixel(y0, y1, j) + grid_pixel(y0, y1, j + 1));
-          const glm::vec3 centre = sky_radiance(f, direction(cx, cy), false);
-          const glm::vec3 mean = 0.25f * (s.grid[c00] + s.grid[c10] + s.grid[c01] + s.grid[c11]);
-          const glm::vec3 diff = glm::abs(centre - mean);
-          exact = !(diff.x <= kBlockTolerance * centre.x && diff.y <= kBlockTolerance * centre.y &&
-                    diff.z <= kBlockTolerance * centre.z);
+          set_direction(s.tested.size(), direction(cx, cy));
+          s.tested.push_back(j * nbx + i);
         }
-        s.block_exact[size_t(j) * size_t(nbx) + size_t(i)] = exact ? 1 : 0;
       }
+    s.centre.resize(s.tested.size());
+    sky_radiance_batch(f, s.tested.size(), s.dir_x.data(), s.dir_y.data(), s.dir_z.data(), s.centre.data());
+    for (size_t k = 0; k < s.tested.size(); ++k) {
+      const int j = s.tested[k] / nbx, i = s.tested[k] % nbx;
+      const size_t c00 = size_t(j) * gw + size_t(i), c10 = c00 + 1, c01 = c00 + gw, c11 = c01 + 1;
+      const glm::vec3& centre = s.centre[k];
+      const glm::vec3 mean = 0.25f * (s.grid[c00] + s.grid[c10] + s.grid[c01] + s.grid[c11]);
+      const glm::vec3 diff = glm::abs(centre - mean);
+      const bool exact = !(diff.x <= kBlockTolerance * centre.x && diff.y <= kBlockTolerance * centre.y &&
+                           diff.z <= kBlockTolerance * centre.z);
+      s.block_exact[size_t(s.tested[k])] = exact ? 1 : 0;
+    }
   };
 
   const AerialPerspectiveLut* ap = f.space ? nullptr : f.aerial_perspective.get();
@@ -396,9 +469,11 @@ void composite_sky(const SkyFrame& f, FrameBuffers& buffers, int x0, int y0, int
     const float* depth = buffers.depth.data() + row;
     const float* distance = buffers.distance.data() + row;
     glm::vec3* color = buffers.color.data() + row;
-    if (y + 1 < y1) {
-      // The next row of the tile is another stream for the hardware prefetcher: start it now.
-      const size_t next = row + size_t(w);
+    if (y + kPrefetchRows < y1) {
+      // A later row of the tile is another stream for the hardware prefetcher, which does not
+      // catch these short (256-byte) rows in time: start it now. (One row ahead, the first
+      // pass over a row still stalled on its loads.)
+      const size_t next = row + size_t(kPrefetchRows) * size_t(w);
       for (size_t k = 0; k < n; k += 16) {
         __builtin_prefetch(buffers.depth.data() + next + k);
         __builtin_prefetch(buffers.distance.data() + next + k);
@@ -420,8 +495,17 @@ void composite_sky(const SkyFrame& f, FrameBuffers& buffers, int x0, int y0, int
     const int* froxel_index = s.identity.data();
     const float* froxel_sx = s.sx.data();
     const float* froxel_distance = distance;
+    // A row of sky only (the common case above the horizon) lists only its exact pixels:
+    // the interpolated blocks are filled block by block below.
+    const bool all_sky = size_t(row_sky) == n;
     if (n_special == 0) {
       n_froxel = n;
+    } else if (all_sky) {
+      for (size_t k = 0; k < n; ++k) {
+        s.sky[n_sky] = int(k);
+        n_sky += exact_blocks[k / kBlock] != 0 ? 1 : 0;
+      }
+      n_interp = n - n_sky;
     } else {
       for (size_t k = 0; k < n; ++k) {
         const bool sky = depth[k] == 0.0f;
@@ -447,10 +531,19 @@ void composite_sky(const SkyFrame& f, FrameBuffers& buffers, int x0, int y0, int
       const glm::vec3* g0 = s.grid.data() + size_t(bj) * gw;
       const glm::vec3* g1 = g0 + gw;
       for (size_t i = 0; i < gw; ++i) s.edge[i] = g0[i] + (g1[i] - g0[i]) * wy;
-      for (size_t j = 0; j < n_interp; ++j) {
-        const size_t k = size_t(s.interp[j]);
-        const size_t bi = k / size_t(kBlock);
-        color[k] = s.edge[bi] + (s.edge[bi + 1] - s.edge[bi]) * s.wx[k];
+      if (all_sky) {
+        for (size_t bi = 0; bi < size_t(nbx); ++bi) {
+          if (exact_blocks[bi] != 0) continue;
+          const glm::vec3 left = s.edge[bi], step = s.edge[bi + 1] - s.edge[bi];
+          const size_t end = std::min(n, (bi + 1) * size_t(kBlock));
+          for (size_t k = bi * size_t(kBlock); k < end; ++k) color[k] = left + step * s.wx[k];
+        }
+      } else {
+        for (size_t j = 0; j < n_interp; ++j) {
+          const size_t k = size_t(s.interp[j]);
+          const size_t bi = k / size_t(kBlock);
+          color[k] = s.edge[bi] + (s.edge[bi + 1] - s.edge[bi]) * s.wx[k];
+        }
       }
     }
 

@@ -5,6 +5,8 @@
 // (froxel LUT, trilinear; ray-marched beyond its range) on opaque pixels. In
 // the space fallback the sky-view LUT is the one built for space and opaque
 // pixels are ray marched.
+#include <cstddef>
+
 #include <glm/glm.hpp>
 
 #include "atmosphere/sky_frame.h"
@@ -14,6 +16,10 @@ namespace cr {
 
 // Sky radiance (cd/m^2) along a world direction, without / with the sun disk.
 glm::vec3 sky_radiance(const SkyFrame& f, const glm::vec3& dir, bool with_sun_disk);
+// sky_radiance(f, dir, false) for n directions (dx[i], dy[i], dz[i]) into out[i],
+// bit for bit: the LUT coordinates of all of them come from one loop that vectorizes.
+void sky_radiance_batch(const SkyFrame& f, size_t n, const float* dx, const float* dy, const float* dz,
+                        glm::vec3* out);
 // Applies aerial perspective to a surface colour seen at `distance` metres along `dir`.
 glm::vec3 apply_aerial_perspective(const SkyFrame& f, const glm::vec3& dir, float distance, const glm::vec3& color);
 // Radiance of the sun disk along dir (0 outside the disk), before the atmosphere.

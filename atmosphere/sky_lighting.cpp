@@ -27,7 +27,7 @@ void fill_light_environment(const SkyFrame& f, LightEnvironment& light) {
   const double ground = f.model.bottom_radius;
   light.sun_at = [lut, offset, sun, e, ground](const glm::vec3* world_pos, glm::vec3* out, size_t n) {
     // Altitude and sun cosine of a chunk of points first, in a loop the
-    // compiler vectorises, then the LUT lookups.
+    // compiler vectorises, then the batched LUT lookups.
     constexpr size_t kChunk = 64;
     float altitude[kChunk], mu_s[kChunk];
     const glm::dvec3 s(sun);
@@ -39,7 +39,8 @@ void fill_light_environment(const SkyFrame& f, LightEnvironment& light) {
         altitude[i] = float(r - ground);
         mu_s[i] = float((p.x * s.x + p.y * s.y + p.z * s.z) / r);
       }
-      for (size_t i = 0; i < count; ++i) out[begin + i] = e * lut->sun(altitude[i], mu_s[i]);
+      lut->sun_batch(altitude, mu_s, count, out + begin);
+      for (size_t i = 0; i < count; ++i) out[begin + i] = e * out[begin + i];
     }
   };
 }

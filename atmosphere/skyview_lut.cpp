@@ -18,19 +18,6 @@ SkyViewMapping::SkyViewMapping(double ground_radius, double top_radius, double a
   first_angle = r > top_radius ? float(M_PI - std::asin(top_radius / r)) : 0.0f;
 }
 
-glm::vec2 SkyViewMapping::to_unit(float cos_view_zenith, float cos_longitude) const {
-  const float angle = fast_acos(cos_view_zenith);
-  float v;
-  if (angle < zenith_horizon_angle) {
-    const float above = (angle - first_angle) / (zenith_horizon_angle - first_angle);
-    v = 0.5f * (1.0f - std::sqrt(std::clamp(1.0f - above, 0.0f, 1.0f)));
-  } else {
-    v = 0.5f + 0.5f * std::sqrt(std::min(1.0f, (angle - zenith_horizon_angle) / beta));
-  }
-  const float u = std::sqrt(std::clamp(0.5f - 0.5f * cos_longitude, 0.0f, 1.0f));
-  return {u, v};
-}
-
 void SkyViewMapping::from_unit(glm::vec2 unit, double& cos_view_zenith, double& cos_longitude) const {
   double angle;
   if (unit.y < 0.5f) {

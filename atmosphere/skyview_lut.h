@@ -10,11 +10,13 @@
 // the rows spanning only the directions that meet the atmosphere: from the
 // tangent to its top down to the nadir, the planet's limb between the middle
 // rows; the sky there is one LUT lookup instead of a per-pixel ray march.
+#include <cmath>
 #include <cstddef>
 #include <vector>
 
 #include <glm/glm.hpp>
 
+#include "atmosphere/fast_math.h"
 #include "atmosphere/lut_image.h"
 #include "atmosphere/scattering_march.h"
 
@@ -37,6 +39,19 @@ struct SkyViewTexel {
   float rest[4];          // rgb, pad
   float mie_unphased[4];  // rgb, pad
 };
+
+// Selects for the branches, std::clamp and std::min (same results, NaN included):
+// inlined into a loop over many directions, it vectorizes.
+inline glm::vec2 SkyViewMapping::to_unit(float cos_view_zenith, float cos_longitude) const {
+  const float angle = fast_acos(cos_view_zenith);
+  const float above = 1.0f - (angle - first_angle) / (zenith_horizon_angle - first_angle);
+  const float below = (angle - zenith_horizon_angle) / beta;
+  const float v = angle < zenith_horizon_angle
+                      ? 0.5f * (1.0f - std::sqrt(above < 0.0f ? 0.0f : (1.0f < above ? 1.0f : above)))
+                      : 0.5f + 0.5f * std::sqrt(below < 1.0f ? below : 1.0f);
+  const float uu = 0.5f - 0.5f * cos_longitude;
+  return {std::sqrt(uu < 0.0f ? 0.0f : (1.0f < uu ? 1.0f : uu)), v};
+}
 
 class SkyViewLut {
  public:

@@ -5,6 +5,7 @@
 #include <cstring>
 
 #include "atmosphere/atmosphere_density.h"
+#include "atmosphere/float4.h"
 #include "atmosphere/planet_geometry.h"
 
 namespace cr {
@@ -73,6 +74,40 @@ glm::vec3 optical_depth(const AtmosphereModel& m, float h0, float mu, float leng
           m.ozone_absorption * sum_ozone) * dt;
 }
 
+namespace {
+
+// row() and sun_lookup() of n points: selects, restrict pointers and no call,
+// so it vectorizes; out of line so that GCC keeps the restricts.
+__attribute__((noinline)) void sun_coordinates(const TransmittanceLut& lut, size_t n,
+                                               const float* __restrict altitude, const float* __restrict mu_s,
+                                               int* __restrict x0, int* __restrict x1, float* __restrict wx,
+                                               int* __restrict y0, int* __restrict y1, float* __restrict wy,
+                                               float* __restrict visible) {
+  const int width = lut.image().width;
+  for (size_t i = 0; i < n; ++i) {
+    const TransmittanceRow row = lut.row(altitude[i]);
+    y0[i] = row.y.i0;
+    y1[i] = row.y.i1;
+    wy[i] = row.y.w;
+    sun_lookup(row, width, mu_s[i], x0[i], x1[i], wx[i], visible[i]);
+  }
+}
+
+}  // namespace
+
+void TransmittanceLut::sun_batch(const float* altitude, const float* mu_s, size_t n, glm::vec3* out) const {
+  constexpr size_t kChunk = 64;
+  int x0[kChunk], x1[kChunk], y0[kChunk], y1[kChunk];
+  float wx[kChunk], wy[kChunk], visible[kChunk];
+  for (size_t begin = 0; begin < n; begin += kChunk) {
+    const size_t count = std::min(kChunk, n - begin);
+    sun_coordinates(*this, count, altitude + begin, mu_s + begin, x0, x1, wx, y0, y1, wy, visible);
+    for (size_t i = 0; i < count; ++i)
+      out[begin + i] =
+          to_vec3(bilinear4(packed_.data(), image_.width, x0[i], x1[i], wx[i], y0[i], y1[i], wy[i]) * splat4(visible[i]));
+  }
+}
+
 TransmittanceLut::TransmittanceLut(const AtmosphereModel& model, int width, int height, int steps)
     : model_(model),
       mapping_(model),
@@ -94,22 +129,6 @@ void TransmittanceLut::bake(size_t begin, size_t end) {
     image_.texels[i] = t;
     std::memcpy(&packed_[4 * i], &t, sizeof t);
   }
-}
-
-TransmittanceRow TransmittanceLut::row(float altitude) const {
-  const float R = mapping_.ground_radius;
-  const float h = std::clamp(altitude, 0.0f, mapping_.top_altitude);
-  TransmittanceRow row;
-  row.r = R + h;
-  const float rho = std::sqrt(h * (2.0f * R + h));
-  row.d_min = mapping_.top_altitude - h;
-  const float d_range = rho + mapping_.horizon_top - row.d_min;
-  row.inv_d_range = d_range > 0.0f ? 1.0f / d_range : 0.0f;
-  row.top2_minus_r2 = (mapping_.top_altitude - h) * (2.0f * R + mapping_.top_altitude + h);
-  row.mu_horizon = -rho / row.r;
-  row.penumbra = sin_sun_radius_ * (R / row.r);
-  row.y = lut_coord(rho / mapping_.horizon_top * float(image_.height - 1), image_.height);
-  return row;
 }
 
 }  // namespace cr

@@ -54,6 +54,9 @@ class TransmittanceLut {
   // zero in the planet's shadow, smooth over the sun disk's size.
   glm::vec3 sun(const TransmittanceRow& row, float mu_s) const;
   glm::vec3 sun(float altitude, float mu_s) const { return sun(row(altitude), mu_s); }
+  // sun(altitude[i], mu_s[i]) into out[i] for n points, bit for bit: the rows
+  // and texel coordinates of many points come from one loop that vectorizes.
+  void sun_batch(const float* altitude, const float* mu_s, size_t n, glm::vec3* out) const;
 
   const LutImage& image() const { return image_; }
   const float* packed() const { return packed_.data(); }  // the image as rgb + pad (see float4.h)
@@ -92,6 +95,23 @@ inline void sun_lookup(const TransmittanceRow& row, int width, float mu_s, int& 
   x0 = int(x) < width - 1 ? int(x) : width - 1;
   x1 = x0 + 1 < width - 1 ? x0 + 1 : width - 1;
   w = x - float(x0);
+}
+
+inline TransmittanceRow TransmittanceLut::row(float altitude) const {
+  const float R = mapping_.ground_radius;
+  // Selects, not std::clamp: inlined into the batched lookups' loops, it vectorizes.
+  const float h = altitude < 0.0f ? 0.0f : (mapping_.top_altitude < altitude ? mapping_.top_altitude : altitude);
+  TransmittanceRow row;
+  row.r = R + h;
+  const float rho = std::sqrt(h * (2.0f * R + h));
+  row.d_min = mapping_.top_altitude - h;
+  const float d_range = rho + mapping_.horizon_top - row.d_min;
+  row.inv_d_range = d_range > 0.0f ? 1.0f / d_range : 0.0f;
+  row.top2_minus_r2 = (mapping_.top_altitude - h) * (2.0f * R + mapping_.top_altitude + h);
+  row.mu_horizon = -rho / row.r;
+  row.penumbra = sin_sun_radius_ * (R / row.r);
+  row.y = lut_coord(rho / mapping_.horizon_top * float(image_.height - 1), image_.height);
+  return row;
 }
 
 inline glm::vec3 TransmittanceLut::to_top(const TransmittanceRow& row, float mu) const {

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "atmosphere/aerial_perspective_lut.h"
+#include "atmosphere/froxel_column.h"
 #include "atmosphere/phase_functions.h"
 #include "atmosphere/planet_geometry.h"
 #include "atmosphere/scattering_march.h"
@@ -94,6 +95,42 @@ TEST_CASE("a sky-view row shaded in one batch equals shading each direction alon
   }
 }
 
+TEST_CASE("a column's runs shaded at once equal accumulating and shading each run alone, bit for bit") {
+  for (double zenith : {30.0, 89.0, 93.0}) {  // day, the shadow's penumbra, sun below the horizon
+    const Luts l(zenith);
+    const AtmosphereLuts luts = l.get();
+    const float mu_s = float(std::cos(zenith * M_PI / 180.0));
+    const size_t run = 3, runs = 7;  // an odd step count: the vector loop's remainder too
+    MarchSteps steps;
+    steps.resize(run * runs);
+    for (size_t k = 0; k < run * runs; ++k) {
+      steps.dt[k] = 150.0f * float(k + 1);
+      steps.t[k] = 75.0f * float((k + 1) * (k + 1));
+    }
+    for (float mu : {0.6f, 0.01f, -0.2f}) {  // up, grazing, down (samples pushed up to the floor)
+      for (float nu : {1.0f, 0.3f, -0.9f}) {
+        const float h0 = 5.0f;
+        march_media(luts.model, h0, mu, 5.0f, steps);
+        std::vector<ShadedRay> shaded(runs);
+        std::vector<glm::vec3> transmittance(runs);
+        shade_runs(luts, steps, h0, mu_s, nu, run, shaded.data(), transmittance.data());
+        MarchedRay ray;
+        for (size_t r = 0; r < runs; ++r) {
+          accumulate(luts, steps, r * run, (r + 1) * run, h0, ray);
+          const ShadedRay ref = shade_split(luts, ray, mu_s, nu);
+          CAPTURE(zenith);
+          CAPTURE(mu);
+          CAPTURE(nu);
+          CAPTURE(r);
+          CHECK(same_bits(shaded[r].rest, ref.rest));
+          CHECK(same_bits(shaded[r].mie_unphased, ref.mie_unphased));
+          CHECK(same_bits(transmittance[r], ray.transmittance));
+        }
+      }
+    }
+  }
+}
+
 TEST_CASE("an aerial-perspective column marched at once equals marching it slice by slice, bit for bit") {
   const Luts l(60.0);
   const AtmosphereLuts luts = l.get();
@@ -152,4 +189,27 @@ TEST_CASE("packed texel copies equal the LUT images, the froxel padding repeats 
         REQUIRE(same_bits(p.luminance, ap.luminance().at(sx, sy, z)));
         REQUIRE(same_bits(p.transmittance, ap.transmittance().at(sx, sy, z)));
       }
+}
+
+TEST_CASE("batched sun transmittance lookups equal TransmittanceLut::sun, bit for bit") {
+  const Luts l(45.0);
+  const TransmittanceLut& t = *l.scheduler.multiscattering_source();
+  // Altitudes under the ground, on it, across the atmosphere and above its top; sun
+  // cosines past both ends, through the shadow's penumbra at each altitude's horizon.
+  std::vector<float> altitude, mu_s;
+  for (float h : {-50.0f, 0.0f, 1.5f, 320.0f, 4000.0f, 25000.0f, 99999.0f, 1.2e5f})
+    for (int j = 0; j <= 40; ++j) {
+      altitude.push_back(h);
+      mu_s.push_back(-1.1f + 0.055f * float(j));
+      const float horizon = t.row(h).mu_horizon;
+      altitude.push_back(h);
+      mu_s.push_back(horizon + 0.0002f * float(j - 20));
+    }
+  std::vector<glm::vec3> batch(altitude.size());
+  t.sun_batch(altitude.data(), mu_s.data(), altitude.size(), batch.data());  // more than one chunk, a remainder
+  for (size_t i = 0; i < altitude.size(); ++i) {
+    CAPTURE(altitude[i]);
+    CAPTURE(mu_s[i]);
+    CHECK(same_bits(batch[i], t.sun(altitude[i], mu_s[i])));
+  }
 }

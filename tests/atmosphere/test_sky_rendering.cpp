@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <vector>
 
 #include "atmosphere/multiscattering_lut.h"
@@ -391,4 +392,42 @@ TEST_CASE("from space the sky-view LUT matches the per-pixel ray march it replac
   MESSAGE("space sky-view LUT vs per-pixel march: mean " << mean << ", p95 " << p95);
   CHECK(mean < 0.01);
   CHECK(p95 < 0.03);
+}
+
+TEST_CASE("batched sky radiance equals sky_radiance without the disk, bit for bit") {
+  JobSystem jobs(1);
+  AtmosphereModel double_hg;
+  double_hg.mie_phase = MiePhaseModel::DoubleHenyeyGreenstein;
+  double_hg.mie_g = 0.76f;
+  for (const AtmosphereModel& model : {AtmosphereModel(), double_hg})
+    for (double altitude : {2.0, 400e3}) {  // on the ground, and from space
+      LutScheduler s(small_settings());
+      s.set_model(model);
+      const Camera cam = camera_at(altitude);
+      const AtmospherePlan p = run_frame(s, 0, cam, sun_from_zenith(80.0), jobs);
+      const SkyFrame f = frame_of(s, p, cam);
+      // Directions all round (zenith and nadir included) and the sun's.
+      std::vector<glm::vec3> dirs = {f.up, -f.up, f.sun, f.sun_horizontal};
+      for (int a = 0; a < 24; ++a)
+        for (int e = -12; e <= 12; ++e) {
+          const float az = float(a) * 0.2618f, el = float(e) * 0.1309f;
+          dirs.push_back(glm::normalize(glm::vec3(std::cos(el) * std::cos(az), std::sin(el), std::cos(el) * std::sin(az))));
+        }
+      for (int k = -400; k <= 40; ++k)  // fine steps across the horizon, and across the limb seen from space
+        dirs.push_back(glm::normalize(glm::vec3(1.0f, float(k) * 1e-3f, 0.05f)));
+      std::vector<float> dx, dy, dz;
+      for (const glm::vec3& d : dirs) {
+        dx.push_back(d.x);
+        dy.push_back(d.y);
+        dz.push_back(d.z);
+      }
+      std::vector<glm::vec3> batch(dirs.size());
+      sky_radiance_batch(f, dirs.size(), dx.data(), dy.data(), dz.data(), batch.data());
+      for (size_t i = 0; i < dirs.size(); ++i) {
+        const glm::vec3 one = sky_radiance(f, dirs[i], false);
+        CAPTURE(altitude);
+        CAPTURE(i);
+        CHECK(std::memcmp(&batch[i], &one, sizeof one) == 0);
+      }
+    }
 }
