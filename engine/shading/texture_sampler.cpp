@@ -78,7 +78,9 @@ float reduce_coordinate(float u, Wrap wrap) {
 
 // One level's share of a footprint on coordinates already reduced (they do
 // not depend on the level, so trilinear lookups reduce once for both levels).
-TextureFootprint::Level level_footprint(const MipLevel& m, int index, float ru, float rv, Filter filter,
+// Always inlined: returned through the stack, its fields were reloaded in
+// pieces that do not match the stores (store-forwarding stalls).
+[[gnu::always_inline]] inline TextureFootprint::Level level_footprint(const MipLevel& m, int index, float ru, float rv, Filter filter,
                                         Wrap wrap_s, Wrap wrap_t) {
   TextureFootprint::Level f;
   f.index = index;
@@ -120,12 +122,66 @@ TextureFootprint::Level level_footprint(const MipLevel& m, int index, float ru, 
   return glm::mix(top, bottom, f.ay);
 }
 
+// texture_footprint written into `f` (which the caller may re-use): a
+// footprint returned by value was copied field by field through the stack.
+[[gnu::always_inline]] inline void compute_footprint(TextureFootprint& f, const Image& image, const Sampler& sampler,
+                                                     glm::vec2 uv, float lambda) {
+  f.levels = 0;
+  f.t = 0.0f;
+  if (image.mips.empty()) return;
+  const float ru = reduce_coordinate(uv.x, sampler.wrap_s);
+  const float rv = reduce_coordinate(uv.y, sampler.wrap_t);
+  auto at_level = [&](int level, Filter filter) {
+    return level_footprint(image.mips[size_t(level)], level, ru, rv, filter, sampler.wrap_s, sampler.wrap_t);
+  };
+  f.levels = 1;
+  // OpenGL's switch-over point: 0.5 when a linear magnification meets a
+  // nearest-within-level minification with mipmaps, so the switch is seamless.
+  const float c = (sampler.mag == Filter::Linear && sampler.min == Filter::Nearest && sampler.mip) ? 0.5f : 0.0f;
+  if (!(lambda > c) || !sampler.mip) {
+    f.level[0] = at_level(0, lambda > c ? sampler.min : sampler.mag);
+    return;
+  }
+  const int last = int(image.mips.size()) - 1;
+  if (*sampler.mip == Filter::Nearest) {
+    // OpenGL: d = ceil(lambda + 1/2) - 1 above 1/2, level 0 below.
+    const int level = lambda <= 0.5f ? 0 : int(std::min(std::ceil(lambda + 0.5f) - 1.0f, float(last)));
+    f.level[0] = at_level(level, sampler.min);
+    return;
+  }
+  if (lambda >= float(last)) {
+    f.level[0] = at_level(last, sampler.min);
+    return;
+  }
+  // Here 0 < lambda < last: small and finite.
+  const int level = floor_to_int(lambda);
+  f.level[0] = at_level(level, sampler.min);
+  f.t = lambda - float(level);
+  // mix(a, b, 0) is a exactly (texels are finite): the second level adds nothing.
+  if (f.t == 0.0f) return;
+  f.level[1] = at_level(level + 1, sampler.min);
+  f.levels = 2;
+}
+
+// sample_footprint, inlined into the lookups below.
+[[gnu::always_inline]] inline glm::vec4 filter_footprint(const Image& image, const TextureFootprint& f) {
+  if (f.levels == 0 || image.mips.empty()) return glm::vec4(1.0f);
+  const TexelDecoder decode(image);
+  const glm::vec4 a = sample_level_footprint(image, decode, f.level[0]);
+  if (f.levels == 1) return a;
+  return glm::mix(a, sample_level_footprint(image, decode, f.level[1]), f.t);
+}
+
 }  // namespace
 
 float texture_lod(const Image& image, glm::vec2 duv_dx, glm::vec2 duv_dy) {
   if (image.mips.empty()) return -std::numeric_limits<float>::infinity();
   const glm::vec2 size(float(image.mips[0].width), float(image.mips[0].height));
-  const float rho = std::max(glm::length(duv_dx * size), glm::length(duv_dy * size));
+  const glm::vec2 sx = duv_dx * size, sy = duv_dy * size;
+  // max(|sx|, |sy|) with one square root: sqrt is correctly rounded, hence
+  // monotonic, so this is the same float (NaN included: std::max keeps its
+  // first argument when a comparison fails, before and after the sqrt).
+  const float rho = std::sqrt(std::max(glm::dot(sx, sx), glm::dot(sy, sy)));
   // NaN derivatives (degenerate triangles) count as no minification.
   if (!(rho > 0.0f)) return -std::numeric_limits<float>::infinity();
   return std::log2(rho);
@@ -145,49 +201,11 @@ glm::vec4 sample_level(const Image& image, int level, glm::vec2 uv, Filter filte
 
 TextureFootprint texture_footprint(const Image& image, const Sampler& sampler, glm::vec2 uv, float lambda) {
   TextureFootprint f;
-  if (image.mips.empty()) return f;
-  const float ru = reduce_coordinate(uv.x, sampler.wrap_s);
-  const float rv = reduce_coordinate(uv.y, sampler.wrap_t);
-  auto at_level = [&](int level, Filter filter) {
-    return level_footprint(image.mips[size_t(level)], level, ru, rv, filter, sampler.wrap_s, sampler.wrap_t);
-  };
-  f.levels = 1;
-  // OpenGL's switch-over point: 0.5 when a linear magnification meets a
-  // nearest-within-level minification with mipmaps, so the switch is seamless.
-  const float c = (sampler.mag == Filter::Linear && sampler.min == Filter::Nearest && sampler.mip) ? 0.5f : 0.0f;
-  if (!(lambda > c) || !sampler.mip) {
-    f.level[0] = at_level(0, lambda > c ? sampler.min : sampler.mag);
-    return f;
-  }
-  const int last = int(image.mips.size()) - 1;
-  if (*sampler.mip == Filter::Nearest) {
-    // OpenGL: d = ceil(lambda + 1/2) - 1 above 1/2, level 0 below.
-    const int level = lambda <= 0.5f ? 0 : int(std::min(std::ceil(lambda + 0.5f) - 1.0f, float(last)));
-    f.level[0] = at_level(level, sampler.min);
-    return f;
-  }
-  if (lambda >= float(last)) {
-    f.level[0] = at_level(last, sampler.min);
-    return f;
-  }
-  // Here 0 < lambda < last: small and finite.
-  const int level = floor_to_int(lambda);
-  f.level[0] = at_level(level, sampler.min);
-  f.t = lambda - float(level);
-  // mix(a, b, 0) is a exactly (texels are finite): the second level adds nothing.
-  if (f.t == 0.0f) return f;
-  f.level[1] = at_level(level + 1, sampler.min);
-  f.levels = 2;
+  compute_footprint(f, image, sampler, uv, lambda);
   return f;
 }
 
-glm::vec4 sample_footprint(const Image& image, const TextureFootprint& f) {
-  if (f.levels == 0 || image.mips.empty()) return glm::vec4(1.0f);
-  const TexelDecoder decode(image);
-  const glm::vec4 a = sample_level_footprint(image, decode, f.level[0]);
-  if (f.levels == 1) return a;
-  return glm::mix(a, sample_level_footprint(image, decode, f.level[1]), f.t);
-}
+glm::vec4 sample_footprint(const Image& image, const TextureFootprint& f) { return filter_footprint(image, f); }
 
 glm::vec4 sample_texture_at_lod(const Image& image, const Sampler& sampler, glm::vec2 uv, float lambda) {
   return sample_footprint(image, texture_footprint(image, sampler, uv, lambda));
@@ -196,6 +214,30 @@ glm::vec4 sample_texture_at_lod(const Image& image, const Sampler& sampler, glm:
 glm::vec4 sample_texture(const Image& image, const Sampler& sampler, glm::vec2 uv, glm::vec2 duv_dx,
                          glm::vec2 duv_dy) {
   return sample_texture_at_lod(image, sampler, uv, texture_lod(image, duv_dx, duv_dy));
+}
+
+void sample_textures(const TextureLookup* lookups, int count, glm::vec2 uv, glm::vec2 duv_dx, glm::vec2 duv_dy,
+                     glm::vec4* out) {
+  int width = -1, height = -1;
+  float lambda = 0.0f;
+  const Sampler* sampler = nullptr;
+  TextureFootprint f;
+  for (int k = 0; k < count; ++k) {
+    const Image& image = *lookups[k].image;
+    const int w = image.mips.empty() ? 0 : image.mips[0].width;
+    const int h = image.mips.empty() ? 0 : image.mips[0].height;
+    if (w != width || h != height) {
+      width = w;
+      height = h;
+      sampler = nullptr;
+      lambda = texture_lod(image, duv_dx, duv_dy);
+    }
+    if (lookups[k].sampler != sampler) {
+      sampler = lookups[k].sampler;
+      compute_footprint(f, image, *sampler, uv, lambda);
+    }
+    out[k] = filter_footprint(image, f);
+  }
 }
 
 }  // namespace cr

@@ -54,4 +54,16 @@ glm::vec4 sample_texture_at_lod(const Image& image, const Sampler& sampler, glm:
 glm::vec4 sample_texture(const Image& image, const Sampler& sampler, glm::vec2 uv, glm::vec2 duv_dx,
                          glm::vec2 duv_dy);
 
+// One texture of several read at the same surface point.
+struct TextureLookup {
+  const Image* image = nullptr;
+  const Sampler* sampler = nullptr;
+};
+// sample_texture of each lookup at one point: out[k] for lookups[k]. Images
+// of one base size read through one sampler (a material's textures, mostly)
+// share the footprint, computed once: the LOD's log2, the wrapping and the
+// filter weights are a large part of a lookup.
+void sample_textures(const TextureLookup* lookups, int count, glm::vec2 uv, glm::vec2 duv_dx, glm::vec2 duv_dy,
+                     glm::vec4* out);
+
 }  // namespace cr

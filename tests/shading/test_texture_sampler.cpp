@@ -241,3 +241,28 @@ TEST_CASE("texture footprint: one footprint samples every image of its size as t
   // An image without levels reads as opaque white through any footprint.
   CHECK(sample_footprint(Image{}, texture_footprint(a, Sampler{}, glm::vec2(0.5f), 0.0f)) == glm::vec4(1.0f));
 }
+
+TEST_CASE("sample_textures equals each image's own lookup, footprints shared or not") {
+  // Images of two sizes through two samplers, in an order that switches both
+  // (each switch recomputes what it invalidates), plus an image without levels.
+  Image small = level_coded_image(16);
+  Image large = level_coded_image(64);
+  Image other = level_coded_image(16);
+  for (MipLevel& m : other.mips)
+    for (size_t i = 0; i < m.rgba.size(); ++i) m.rgba[i] = uint8_t((i * 53 + 7) % 251);
+  other.srgb = true;
+  const Image empty;
+  const Sampler trilinear = make_sampler(Filter::Linear, Filter::Linear, Filter::Linear);
+  const Sampler mirrored = make_sampler(Filter::Nearest, Filter::Linear, Filter::Nearest, Wrap::MirroredRepeat);
+  const TextureLookup lookups[] = {{&small, &trilinear}, {&other, &trilinear}, {&other, &mirrored},
+                                   {&large, &mirrored},  {&empty, &trilinear}, {&small, &trilinear}};
+  constexpr int kCount = int(std::size(lookups));
+  for (glm::vec2 uv : {glm::vec2(0.37f, 0.81f), glm::vec2(-1.3f, 2.6f)})
+    for (float scale : {0.0f, 0.004f, 0.03f, 0.2f, 3.0f}) {
+      const glm::vec2 dx(scale, 0.3f * scale), dy(-0.1f * scale, 0.7f * scale);
+      glm::vec4 out[kCount];
+      sample_textures(lookups, kCount, uv, dx, dy, out);
+      for (int k = 0; k < kCount; ++k)
+        CHECK(out[k] == sample_texture(*lookups[k].image, *lookups[k].sampler, uv, dx, dy));
+    }
+}
