@@ -60,7 +60,7 @@ int wrap_index(int i, int n, Wrap wrap) {
 
 // Brings a coordinate into a small range with the same wrapped result, so
 // that huge or non-finite UVs never overflow the integer texel index.
-float reduce_coordinate(float u, Wrap wrap) {
+inline float reduce_coordinate(float u, Wrap wrap) {
   if (!std::isfinite(u)) return 0.0f;
   // From 2^23 up every float is an integer (u - floor(u) = 0); below, the
   // cheap floor is exact.
@@ -77,13 +77,13 @@ float reduce_coordinate(float u, Wrap wrap) {
 }
 
 // One level's share of a footprint on coordinates already reduced (they do
-// not depend on the level, so trilinear lookups reduce once for both levels).
-// Always inlined: returned through the stack, its fields were reloaded in
-// pieces that do not match the stores (store-forwarding stalls).
-[[gnu::always_inline]] inline TextureFootprint::Level level_footprint(const MipLevel& m, int index, float ru, float rv, Filter filter,
-                                        Wrap wrap_s, Wrap wrap_t) {
-  TextureFootprint::Level f;
+// not depend on the level, so trilinear lookups reduce once for both levels),
+// written in place: returned through the stack, its fields were reloaded in
+// pieces that did not match the stores (store-forwarding stalls).
+[[gnu::always_inline]] inline void level_footprint(TextureFootprint::Level& f, const MipLevel& m, int index, float ru,
+                                                   float rv, Filter filter, Wrap wrap_s, Wrap wrap_t) {
   f.index = index;
+  f.ax = f.ay = 0.0f;
   const float u = ru * float(m.width);
   const float v = rv * float(m.height);
   // Reduced coordinates are small, so floor_to_int applies.
@@ -92,7 +92,7 @@ float reduce_coordinate(float u, Wrap wrap) {
     const int y = wrap_index(floor_to_int(v), m.height, wrap_t);
     const uint32_t o = uint32_t(y) * uint32_t(m.width) + uint32_t(x);
     f.texel[0] = f.texel[1] = f.texel[2] = f.texel[3] = o;  // weights 0: the texel itself, exactly
-    return f;
+    return;
   }
   // Texel centres sit at integer + 0.5.
   const float fx = u - 0.5f;
@@ -109,7 +109,6 @@ float reduce_coordinate(float u, Wrap wrap) {
   f.texel[1] = y0 + x1;
   f.texel[2] = y1 + x0;
   f.texel[3] = y1 + x1;
-  return f;
 }
 
 // Always inlined: a glm::vec4 returned by value is split across two registers
@@ -131,35 +130,35 @@ float reduce_coordinate(float u, Wrap wrap) {
   if (image.mips.empty()) return;
   const float ru = reduce_coordinate(uv.x, sampler.wrap_s);
   const float rv = reduce_coordinate(uv.y, sampler.wrap_t);
-  auto at_level = [&](int level, Filter filter) {
-    return level_footprint(image.mips[size_t(level)], level, ru, rv, filter, sampler.wrap_s, sampler.wrap_t);
+  auto at_level = [&](int slot, int level, Filter filter) __attribute__((always_inline)) {
+    level_footprint(f.level[slot], image.mips[size_t(level)], level, ru, rv, filter, sampler.wrap_s, sampler.wrap_t);
   };
   f.levels = 1;
   // OpenGL's switch-over point: 0.5 when a linear magnification meets a
   // nearest-within-level minification with mipmaps, so the switch is seamless.
   const float c = (sampler.mag == Filter::Linear && sampler.min == Filter::Nearest && sampler.mip) ? 0.5f : 0.0f;
   if (!(lambda > c) || !sampler.mip) {
-    f.level[0] = at_level(0, lambda > c ? sampler.min : sampler.mag);
+    at_level(0, 0, lambda > c ? sampler.min : sampler.mag);
     return;
   }
   const int last = int(image.mips.size()) - 1;
   if (*sampler.mip == Filter::Nearest) {
     // OpenGL: d = ceil(lambda + 1/2) - 1 above 1/2, level 0 below.
     const int level = lambda <= 0.5f ? 0 : int(std::min(std::ceil(lambda + 0.5f) - 1.0f, float(last)));
-    f.level[0] = at_level(level, sampler.min);
+    at_level(0, level, sampler.min);
     return;
   }
   if (lambda >= float(last)) {
-    f.level[0] = at_level(last, sampler.min);
+    at_level(0, last, sampler.min);
     return;
   }
   // Here 0 < lambda < last: small and finite.
   const int level = floor_to_int(lambda);
-  f.level[0] = at_level(level, sampler.min);
+  at_level(0, level, sampler.min);
   f.t = lambda - float(level);
   // mix(a, b, 0) is a exactly (texels are finite): the second level adds nothing.
   if (f.t == 0.0f) return;
-  f.level[1] = at_level(level + 1, sampler.min);
+  at_level(1, level + 1, sampler.min);
   f.levels = 2;
 }
 
@@ -194,8 +193,9 @@ glm::vec4 fetch_texel(const Image& image, int level, int x, int y) {
 
 glm::vec4 sample_level(const Image& image, int level, glm::vec2 uv, Filter filter, Wrap wrap_s,
                        Wrap wrap_t) {
-  const TextureFootprint::Level f = level_footprint(image.mips[size_t(level)], level, reduce_coordinate(uv.x, wrap_s),
-                                                    reduce_coordinate(uv.y, wrap_t), filter, wrap_s, wrap_t);
+  TextureFootprint::Level f;
+  level_footprint(f, image.mips[size_t(level)], level, reduce_coordinate(uv.x, wrap_s), reduce_coordinate(uv.y, wrap_t),
+                  filter, wrap_s, wrap_t);
   return sample_level_footprint(image, TexelDecoder(image), f);
 }
 
