@@ -157,12 +157,29 @@ void SurfaceShader::shade_batch(ShadingBatch& batch) const {
     light_->sun_at(lit_position, lit_sun, size_t(lit_count));
   else
     for (int k = 0; k < lit_count; ++k) lit_sun[k] = light_->sun_illuminance;
+  // The shadow lookup uses the interpolated normal: its bias models the
+  // geometry in the depth map, which the normal map does not change.
+  static_assert(ShadowReceivers::kCapacity >= kN);
+  ShadowReceivers receivers;
+  int receiver_of[kN];  // lit entry -> receiver, or -1 where the sun is dark
+  for (int k = 0; k < lit_count; ++k) {
+    receiver_of[k] = -1;
+    if (!shadow_ || lit_sun[k] == glm::vec3(0.0f)) continue;
+    const int i = lit[k], j = receivers.count++;
+    receivers.px[j] = batch.position[i].x;
+    receivers.py[j] = batch.position[i].y;
+    receivers.pz[j] = batch.position[i].z;
+    receivers.nx[j] = batch.interpolated_normal[i].x;
+    receivers.ny[j] = batch.interpolated_normal[i].y;
+    receivers.nz[j] = batch.interpolated_normal[i].z;
+    receiver_of[k] = j;
+  }
+  float visibility[kN];
+  if (receivers.count > 0) shadow_->visibility(receivers, visibility);
   for (int k = 0; k < lit_count; ++k) {
     const int i = lit[k];
     glm::vec3 e = lit_sun[k];
-    // The shadow lookup uses the interpolated normal: its bias models the
-    // geometry in the depth map, which the normal map does not change.
-    if (shadow_ && e != glm::vec3(0.0f)) e *= shadow_->visibility(batch.position[i], batch.interpolated_normal[i]);
+    if (receiver_of[k] >= 0) e *= visibility[receiver_of[k]];
     sun_r[i] = e.r;
     sun_g[i] = e.g;
     sun_b[i] = e.b;
