@@ -34,12 +34,25 @@ inline void sh_sum(const ShCoefficients& c, float dx, float dy, float dz, float&
   }
 }
 
+// The batch's interpolated normals made unit: normalize_or(g, +Y) per lane,
+// the same floats as safe_normalize.h's rule (|g| = sqrt((x x + y y) + z z)).
+void normalize_interpolated_normals(ShadingBatch& s) {
+  for (int i = 0; i < s.count; ++i) {
+    const float x = s.gx[i], y = s.gy[i], z = s.gz[i];
+    const float len = std::sqrt(x * x + y * y + z * z);
+    const bool ok = usable_length(len);
+    s.gx[i] = ok ? x / len : 0.0f;
+    s.gy[i] = ok ? y / len : 1.0f;
+    s.gz[i] = ok ? z / len : 0.0f;
+  }
+}
+
 // View vectors and the normals bent towards the viewer (kMinNdotV); n.l.
 void view_and_normals(ShadingBatch& s, glm::dvec3 camera,
                                                                          glm::vec3 l, float* vx, float* vy,
                                                                          float* vz, float* n_dot_l) {
   for (int i = 0; i < s.count; ++i) {
-    const glm::vec3 g = s.interpolated_normal[i];
+    const glm::vec3 g(s.gx[i], s.gy[i], s.gz[i]);
     const float dx = float(camera.x - double(s.position[i].x));
     const float dy = float(camera.y - double(s.position[i].y));
     const float dz = float(camera.z - double(s.position[i].z));
@@ -139,6 +152,7 @@ void SurfaceShader::shade_batch(ShadingBatch& batch) const {
   constexpr int kN = ShadingBatch::kCapacity;
   const int n = batch.count;
   float vx[kN], vy[kN], vz[kN], n_dot_l[kN];
+  normalize_interpolated_normals(batch);
   view_and_normals(batch, camera_position_, sun_direction_, vx, vy, vz, n_dot_l);
 
   // The sun's illuminance times its visibility, fetched for lit points only.
@@ -169,9 +183,9 @@ void SurfaceShader::shade_batch(ShadingBatch& batch) const {
     receivers.px[j] = batch.position[i].x;
     receivers.py[j] = batch.position[i].y;
     receivers.pz[j] = batch.position[i].z;
-    receivers.nx[j] = batch.interpolated_normal[i].x;
-    receivers.ny[j] = batch.interpolated_normal[i].y;
-    receivers.nz[j] = batch.interpolated_normal[i].z;
+    receivers.nx[j] = batch.gx[i];
+    receivers.ny[j] = batch.gy[i];
+    receivers.nz[j] = batch.gz[i];
     receiver_of[k] = j;
   }
   float visibility[kN];
