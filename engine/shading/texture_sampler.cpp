@@ -1,41 +1,13 @@
 #include "engine/shading/texture_sampler.h"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <limits>
 
 #include "engine/shading/small_floor.h"
-#include "engine/core/srgb.h"
 
 namespace cr {
 namespace {
-
-// Value of each 8-bit code of a linear (UNORM) channel, code / 255, so that
-// every channel decodes by one lookup like the sRGB ones.
-const std::array<float, 256>& unorm_decode_table() {
-  static const std::array<float, 256> table = [] {
-    std::array<float, 256> t{};
-    for (int i = 0; i < 256; ++i) t[size_t(i)] = float(i) / 255.0f;
-    return t;
-  }();
-  return table;
-}
-
-// The decode tables of one image, looked up once per lookup rather than per texel.
-struct TexelDecoder {
-  const float* rgb;
-  const float* alpha;
-
-  explicit TexelDecoder(const Image& image)
-      : rgb(image.srgb ? srgb_decode_table().data() : unorm_decode_table().data()),
-        alpha(unorm_decode_table().data()) {}
-
-  glm::vec4 operator()(const MipLevel& m, uint32_t texel) const {
-    const uint8_t* p = &m.rgba[size_t(texel) * 4];
-    return {rgb[p[0]], rgb[p[1]], rgb[p[2]], alpha[p[3]]};
-  }
-};
 
 // Integer texel index under a wrap mode (OpenGL's formulas for each mode).
 // Reduced coordinates (below) put nearly every index inside [0, n) already,
@@ -113,11 +85,10 @@ inline float reduce_coordinate(float u, Wrap wrap) {
 
 // Always inlined: a glm::vec4 returned by value is split across two registers
 // through the stack, and the reload stalls on the store.
-[[gnu::always_inline]] inline glm::vec4 sample_level_footprint(const Image& image, const TexelDecoder& decode,
-                                 const TextureFootprint::Level& f) {
-  const MipLevel& m = image.mips[size_t(f.index)];
-  const glm::vec4 top = glm::mix(decode(m, f.texel[0]), decode(m, f.texel[1]), f.ax);
-  const glm::vec4 bottom = glm::mix(decode(m, f.texel[2]), decode(m, f.texel[3]), f.ax);
+[[gnu::always_inline]] inline glm::vec4 sample_level_footprint(const Image& image, const TextureFootprint::Level& f) {
+  const glm::vec4* texels = image.mips[size_t(f.index)].texels.data();
+  const glm::vec4 top = glm::mix(texels[f.texel[0]], texels[f.texel[1]], f.ax);
+  const glm::vec4 bottom = glm::mix(texels[f.texel[2]], texels[f.texel[3]], f.ax);
   return glm::mix(top, bottom, f.ay);
 }
 
@@ -165,10 +136,9 @@ inline float reduce_coordinate(float u, Wrap wrap) {
 // sample_footprint, inlined into the lookups below.
 [[gnu::always_inline]] inline glm::vec4 filter_footprint(const Image& image, const TextureFootprint& f) {
   if (f.levels == 0 || image.mips.empty()) return glm::vec4(1.0f);
-  const TexelDecoder decode(image);
-  const glm::vec4 a = sample_level_footprint(image, decode, f.level[0]);
+  const glm::vec4 a = sample_level_footprint(image, f.level[0]);
   if (f.levels == 1) return a;
-  return glm::mix(a, sample_level_footprint(image, decode, f.level[1]), f.t);
+  return glm::mix(a, sample_level_footprint(image, f.level[1]), f.t);
 }
 
 }  // namespace
@@ -188,7 +158,7 @@ float texture_lod(const Image& image, glm::vec2 duv_dx, glm::vec2 duv_dy) {
 
 glm::vec4 fetch_texel(const Image& image, int level, int x, int y) {
   const MipLevel& m = image.mips[size_t(level)];
-  return TexelDecoder(image)(m, uint32_t(y) * uint32_t(m.width) + uint32_t(x));
+  return m.texels[size_t(y) * size_t(m.width) + size_t(x)];
 }
 
 glm::vec4 sample_level(const Image& image, int level, glm::vec2 uv, Filter filter, Wrap wrap_s,
@@ -196,7 +166,7 @@ glm::vec4 sample_level(const Image& image, int level, glm::vec2 uv, Filter filte
   TextureFootprint::Level f;
   level_footprint(f, image.mips[size_t(level)], level, reduce_coordinate(uv.x, wrap_s), reduce_coordinate(uv.y, wrap_t),
                   filter, wrap_s, wrap_t);
-  return sample_level_footprint(image, TexelDecoder(image), f);
+  return sample_level_footprint(image, f);
 }
 
 TextureFootprint texture_footprint(const Image& image, const Sampler& sampler, glm::vec2 uv, float lambda) {

@@ -2,8 +2,9 @@
 // Texture lookups: an Image (RGBA8 mip chain) read through a glTF Sampler,
 // following the OpenGL 4.6 rules (section 8.14): level of detail from the
 // scale factor, magnification/minification filters, nearest or linear
-// (trilinear) mip selection, and the three glTF wrap modes. sRGB images are
-// decoded to linear per texel before filtering, as GPUs do.
+// (trilinear) mip selection, and the three glTF wrap modes. Texels are read
+// as decoded at load (MipLevel::texels, image_texels.h: sRGB to linear before
+// filtering, as GPUs do): every image sampled must have been decoded.
 #include <cstdint>
 
 #include <glm/glm.hpp>
