@@ -75,6 +75,9 @@ class TiledRasterizer {
   // position (px, py) (pixel centre = x + 0.5), with d/dx and d/dy per pixel.
   Barycentrics barycentrics(uint32_t triangle_id, float px, float py) const;
   TriangleRef ref(uint32_t triangle_id) const;
+  // The interpolation planes behind barycentrics(): a caller shading many
+  // pixels of one triangle looks them up once and calls interpolate() inline.
+  const TriangleInterp& interp(uint32_t triangle_id) const;
 
  private:
   struct Geometry {
@@ -90,7 +93,6 @@ class TiledRasterizer {
   void build(JobSystem& jobs, GeometrySet set, std::span<const RasterDraw> draws, const TileGrid& grid,
              CullMode cull);
   void raster(JobSystem& jobs, GeometrySet set, const TileGrid& grid, const TileTarget& target);
-  const TriangleInterp& interp(uint32_t triangle_id) const;
 
   Geometry geometry_[kSetCount];
   TileGrid visibility_grid_;

@@ -265,6 +265,7 @@ const FrameRecord& Renderer::render_frame(int frame) {
       // Neighbouring pixels mostly see the same triangle: set it up once.
       uint32_t current_id = kNoTriangle;
       std::optional<TriangleSurface> triangle;
+      const TriangleInterp* interp = nullptr;
       const Material* material = nullptr;
       for (size_t y = y0; y < y1; ++y) {
         uint64_t n = 0;
@@ -276,9 +277,10 @@ const FrameRecord& Renderer::render_frame(int frame) {
           }
           if (ids[i] != current_id) {
             triangle.emplace(triangle_of(ids[i], material));
+            interp = &geo.view.interp(ids[i]);
             current_id = ids[i];
           }
-          const Barycentrics bary = geo.view.barycentrics(ids[i], float(x) + 0.5f, float(y) + 0.5f);
+          const Barycentrics bary = interpolate(*interp, float(x) + 0.5f, float(y) + 0.5f);
           const SurfaceSample s = triangle->at(bary);
           const Material* m = material;
           where[batch.count] = i;

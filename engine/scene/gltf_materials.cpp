@@ -5,6 +5,7 @@
 #include <set>
 
 #include "engine/scene/image_mips.h"
+#include "engine/scene/image_texels.h"
 
 namespace cr {
 
@@ -219,6 +220,7 @@ GltfMaterials load_materials(const GltfContext& ctx, const ImageDecodeLog& decod
     }
     image.mips.push_back(std::move(base));
     generate_mips(image);
+    decode_texels(image);
     out.images.push_back(std::move(image));
   }
   return out;

@@ -22,43 +22,8 @@ glm::vec3 apply_normal_map(const glm::vec3& texel, float scale, const SurfaceSam
   return normalize_or(tangent * t.x + bitangent * t.y + s.normal * t.z, s.normal);
 }
 
-// The texture footprint of the surface point for images of one base size
-// read through one sampler: material textures mostly share both, and the
-// LOD's log2, the wrapping and the filter weights are a large part of a lookup.
-class SharedFootprint {
- public:
-  explicit SharedFootprint(const SurfaceSample& surface) : surface_(surface) {}
-
-  const TextureFootprint& of(const Image& image, const Sampler& sampler) {
-    const int w = image.mips.empty() ? 0 : image.mips[0].width;
-    const int h = image.mips.empty() ? 0 : image.mips[0].height;
-    if (w != width_ || h != height_) {
-      width_ = w;
-      height_ = h;
-      sampler_ = nullptr;
-      lambda_ = texture_lod(image, surface_.duv_dx, surface_.duv_dy);
-    }
-    if (&sampler != sampler_) {
-      sampler_ = &sampler;
-      footprint_ = texture_footprint(image, sampler, surface_.uv, lambda_);
-    }
-    return footprint_;
-  }
-
- private:
-  const SurfaceSample& surface_;
-  int width_ = -1;
-  int height_ = -1;
-  float lambda_ = 0.0f;
-  const Sampler* sampler_ = nullptr;
-  TextureFootprint footprint_;
-};
-
-glm::vec4 sample_slot(const Scene& scene, const TextureRef& ref, SharedFootprint& footprint) {
-  if (!ref.valid()) return glm::vec4(1.0f);
-  const Image& image = scene.images[size_t(ref.image)];
-  const Sampler& sampler = ref.sampler >= 0 ? scene.samplers[size_t(ref.sampler)] : default_sampler();
-  return sample_footprint(image, footprint.of(image, sampler));
+const Sampler& sampler_of(const Scene& scene, const TextureRef& ref) {
+  return ref.sampler >= 0 ? scene.samplers[size_t(ref.sampler)] : default_sampler();
 }
 
 }  // namespace
@@ -69,8 +34,11 @@ const Sampler& default_sampler() {
 }
 
 glm::vec4 sample_material_texture(const Scene& scene, const TextureRef& ref, const SurfaceSample& surface) {
-  SharedFootprint footprint(surface);
-  return sample_slot(scene, ref, footprint);
+  if (!ref.valid()) return glm::vec4(1.0f);
+  const TextureLookup lookup{&scene.images[size_t(ref.image)], &sampler_of(scene, ref)};
+  glm::vec4 texel;
+  sample_textures(&lookup, 1, surface.uv, surface.duv_dx, surface.duv_dy, &texel);
+  return texel;
 }
 
 float material_alpha(const Scene& scene, const Material& material, const SurfaceSample& surface) {
@@ -79,29 +47,50 @@ float material_alpha(const Scene& scene, const Material& material, const Surface
 }
 
 MaterialSample evaluate_material(const Scene& scene, const Material& material, const SurfaceSample& surface) {
-  SharedFootprint footprint(surface);
+  // The material's textures, looked up together (they share footprints);
+  // a slot without a texture reads as opaque white, the neutral factor.
+  enum Slot { kBaseColor, kMetallicRoughness, kNormal, kOcclusion, kEmissive, kSlots };
+  TextureLookup lookups[kSlots];
+  int lookup_of[kSlots];
+  int count = 0;
+  auto use = [&](Slot slot, const TextureRef& ref) {
+    lookup_of[slot] = -1;
+    if (!ref.valid()) return;
+    lookups[count] = {&scene.images[size_t(ref.image)], &sampler_of(scene, ref)};
+    lookup_of[slot] = count++;
+  };
+  use(kBaseColor, material.base_color);
+  use(kMetallicRoughness, material.metallic_roughness);
+  use(kNormal, material.normal);
+  use(kOcclusion, material.occlusion);
+  // Emission is skipped altogether when its factor is zero.
+  if (material.emissive_factor != glm::vec3(0.0f))
+    use(kEmissive, material.emissive);
+  else
+    lookup_of[kEmissive] = -1;
+  glm::vec4 texels[kSlots];
+  sample_textures(lookups, count, surface.uv, surface.duv_dx, surface.duv_dy, texels);
+  auto texel = [&](Slot slot) { return lookup_of[slot] >= 0 ? texels[lookup_of[slot]] : glm::vec4(1.0f); };
+
   MaterialSample m;
-  const glm::vec4 base = material.base_color_factor * sample_slot(scene, material.base_color, footprint) * surface.color;
+  const glm::vec4 base = material.base_color_factor * texel(kBaseColor) * surface.color;
   m.base_color = glm::max(glm::vec3(base), glm::vec3(0.0f));
   m.alpha = saturate(base.a);
 
-  const glm::vec4 mr = sample_slot(scene, material.metallic_roughness, footprint);
+  const glm::vec4 mr = texel(kMetallicRoughness);
   m.roughness = saturate(material.roughness_factor * mr.g);
   m.metallic = saturate(material.metallic_factor * mr.b);
 
   m.normal = material.normal.valid()
-                 ? apply_normal_map(glm::vec3(sample_slot(scene, material.normal, footprint)),
-                                    material.normal.scale, surface)
+                 ? apply_normal_map(glm::vec3(texel(kNormal)), material.normal.scale, surface)
                  : surface.normal;
 
   if (material.occlusion.valid()) {
     const float strength = saturate(material.occlusion.scale);
-    m.occlusion = 1.0f + strength * (sample_slot(scene, material.occlusion, footprint).r - 1.0f);
+    m.occlusion = 1.0f + strength * (texel(kOcclusion).r - 1.0f);
   }
-  if (material.emissive_factor != glm::vec3(0.0f)) {
-    m.emissive = material.emissive_factor * glm::vec3(sample_slot(scene, material.emissive, footprint)) *
-                 kEmissiveNits;
-  }
+  if (material.emissive_factor != glm::vec3(0.0f))
+    m.emissive = material.emissive_factor * glm::vec3(texel(kEmissive)) * kEmissiveNits;
   return m;
 }
 

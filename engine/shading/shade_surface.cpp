@@ -34,12 +34,25 @@ inline void sh_sum(const ShCoefficients& c, float dx, float dy, float dz, float&
   }
 }
 
+// The batch's interpolated normals made unit: normalize_or(g, +Y) per lane,
+// the same floats as safe_normalize.h's rule (|g| = sqrt((x x + y y) + z z)).
+void normalize_interpolated_normals(ShadingBatch& s) {
+  for (int i = 0; i < s.count; ++i) {
+    const float x = s.gx[i], y = s.gy[i], z = s.gz[i];
+    const float len = std::sqrt(x * x + y * y + z * z);
+    const bool ok = usable_length(len);
+    s.gx[i] = ok ? x / len : 0.0f;
+    s.gy[i] = ok ? y / len : 1.0f;
+    s.gz[i] = ok ? z / len : 0.0f;
+  }
+}
+
 // View vectors and the normals bent towards the viewer (kMinNdotV); n.l.
 void view_and_normals(ShadingBatch& s, glm::dvec3 camera,
                                                                          glm::vec3 l, float* vx, float* vy,
                                                                          float* vz, float* n_dot_l) {
   for (int i = 0; i < s.count; ++i) {
-    const glm::vec3 g = s.interpolated_normal[i];
+    const glm::vec3 g(s.gx[i], s.gy[i], s.gz[i]);
     const float dx = float(camera.x - double(s.position[i].x));
     const float dy = float(camera.y - double(s.position[i].y));
     const float dz = float(camera.z - double(s.position[i].z));
@@ -139,6 +152,7 @@ void SurfaceShader::shade_batch(ShadingBatch& batch) const {
   constexpr int kN = ShadingBatch::kCapacity;
   const int n = batch.count;
   float vx[kN], vy[kN], vz[kN], n_dot_l[kN];
+  normalize_interpolated_normals(batch);
   view_and_normals(batch, camera_position_, sun_direction_, vx, vy, vz, n_dot_l);
 
   // The sun's illuminance times its visibility, fetched for lit points only.
@@ -157,12 +171,29 @@ void SurfaceShader::shade_batch(ShadingBatch& batch) const {
     light_->sun_at(lit_position, lit_sun, size_t(lit_count));
   else
     for (int k = 0; k < lit_count; ++k) lit_sun[k] = light_->sun_illuminance;
+  // The shadow lookup uses the interpolated normal: its bias models the
+  // geometry in the depth map, which the normal map does not change.
+  static_assert(ShadowReceivers::kCapacity >= kN);
+  ShadowReceivers receivers;
+  int receiver_of[kN];  // lit entry -> receiver, or -1 where the sun is dark
+  for (int k = 0; k < lit_count; ++k) {
+    receiver_of[k] = -1;
+    if (!shadow_ || lit_sun[k] == glm::vec3(0.0f)) continue;
+    const int i = lit[k], j = receivers.count++;
+    receivers.px[j] = batch.position[i].x;
+    receivers.py[j] = batch.position[i].y;
+    receivers.pz[j] = batch.position[i].z;
+    receivers.nx[j] = batch.gx[i];
+    receivers.ny[j] = batch.gy[i];
+    receivers.nz[j] = batch.gz[i];
+    receiver_of[k] = j;
+  }
+  float visibility[kN];
+  if (receivers.count > 0) shadow_->visibility(receivers, visibility);
   for (int k = 0; k < lit_count; ++k) {
     const int i = lit[k];
     glm::vec3 e = lit_sun[k];
-    // The shadow lookup uses the interpolated normal: its bias models the
-    // geometry in the depth map, which the normal map does not change.
-    if (shadow_ && e != glm::vec3(0.0f)) e *= shadow_->visibility(batch.position[i], batch.interpolated_normal[i]);
+    if (receiver_of[k] >= 0) e *= visibility[receiver_of[k]];
     sun_r[i] = e.r;
     sun_g[i] = e.g;
     sun_b[i] = e.b;

@@ -1,13 +1,13 @@
 #include "engine/shading/shading_batch.h"
 
-#include "engine/shading/safe_normalize.h"
-
 namespace cr {
 
 void ShadingBatch::add(const SurfaceSample& surface, const MaterialSample& m, float opacity) {
   const int i = count++;
   position[i] = surface.position;
-  interpolated_normal[i] = normalize_or(surface.normal, glm::vec3(0.0f, 1.0f, 0.0f));
+  gx[i] = surface.normal.x;
+  gy[i] = surface.normal.y;
+  gz[i] = surface.normal.z;
   nx[i] = m.normal.x;
   ny[i] = m.normal.y;
   nz[i] = m.normal.z;

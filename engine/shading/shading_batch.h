@@ -16,7 +16,10 @@ struct ShadingBatch {
   int count = 0;
   // Per point (AoS where a scalar consumer takes a vec3: sun_at, the shadow map).
   glm::vec3 position[kCapacity];             // world space
-  glm::vec3 interpolated_normal[kCapacity];  // unit, before the normal map: drives the shadow bias
+  // The interpolated normal (before the normal map: it drives the shadow
+  // bias), as add() stores it; shade_batch makes it unit in one vectorised
+  // loop rather than point by point in the scalar path.
+  float gx[kCapacity], gy[kCapacity], gz[kCapacity];
   float nx[kCapacity], ny[kCapacity], nz[kCapacity];  // shading normal (normal map applied), unit
   float base_r[kCapacity], base_g[kCapacity], base_b[kCapacity];
   float metallic[kCapacity], roughness[kCapacity], occlusion[kCapacity];

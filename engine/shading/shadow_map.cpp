@@ -146,24 +146,52 @@ ShadowMap fit_shadow_map(const Camera& view, const glm::vec3& direction_to_sun, 
   return m;
 }
 
-float ShadowMap::visibility(const glm::vec3& world_pos, const glm::vec3& normal) const {
-  if (size <= 0 || depth.size() < size_t(size) * size_t(size)) return 1.0f;
-  const int r = std::max(pcf_radius, 0);
+namespace {
 
-  const float cos_theta = std::clamp(glm::dot(normal, direction_to_sun), -1.0f, 1.0f);
+// The constants of one map's lookups, each rounded as visibility() rounds it.
+struct LookupConstants {
+  float offset_scale;  // kNormalOffsetTexels * (r + 1) * texel: the normal offset at sin(theta) = 1
+  float depth_bias;    // kConstantBiasTexels * texel / depth_range
+  float size;
+
+  explicit LookupConstants(const ShadowMap& m)
+      : offset_scale(kNormalOffsetTexels * float(std::max(m.pcf_radius, 0) + 1) * m.texel_world_size),
+        depth_bias(kConstantBiasTexels * m.texel_world_size / m.depth_range),
+        size(float(m.size)) {}
+};
+
+// Where a receiver reads the map: its texel coordinates and biased depth.
+// False when the map recorded nothing there (lit). Inlined into a loop over
+// many points it vectorises: glm's mat4 * vec4 is written out in glm's own
+// order, (m0 x + m1 y) + (m2 z + m3 * 1), so the floats are visibility()'s.
+[[gnu::always_inline]] inline bool project_receiver(const ShadowMap& m, const LookupConstants& c, float px, float py,
+                                                    float pz, float nx, float ny, float nz, float& tx, float& ty,
+                                                    float& receiver) {
+  const glm::vec3 d = m.direction_to_sun;
+  const float cos_theta = std::clamp(nx * d.x + ny * d.y + nz * d.z, -1.0f, 1.0f);
   const float sin_theta = std::sqrt(std::max(0.0f, 1.0f - cos_theta * cos_theta));
-  const glm::vec3 offset = normal * (kNormalOffsetTexels * float(r + 1) * texel_world_size * sin_theta);
-  const glm::vec3 p(glm::dvec3(world_pos) - origin + glm::dvec3(offset));
-  const glm::vec4 clip = light_view_proj * glm::vec4(p, 1.0f);
-  // Outside the map's volume nothing was recorded: lit.
-  if (!(std::abs(clip.x) <= 1.0f && std::abs(clip.y) <= 1.0f && clip.z >= 0.0f && clip.z <= 1.0f)) return 1.0f;
-  const float receiver = clip.z + kConstantBiasTexels * texel_world_size / depth_range + kDepthEpsilon;
+  const float offset = c.offset_scale * sin_theta;
+  const float x = float(double(px) - m.origin.x + double(nx * offset));
+  const float y = float(double(py) - m.origin.y + double(ny * offset));
+  const float z = float(double(pz) - m.origin.z + double(nz * offset));
+  const glm::mat4& p = m.light_view_proj;
+  const float cx = (p[0][0] * x + p[1][0] * y) + (p[2][0] * z + p[3][0]);
+  const float cy = (p[0][1] * x + p[1][1] * y) + (p[2][1] * z + p[3][1]);
+  const float cz = (p[0][2] * x + p[1][2] * y) + (p[2][2] * z + p[3][2]);
+  receiver = cz + c.depth_bias + kDepthEpsilon;
+  tx = (cx * 0.5f + 0.5f) * c.size - 0.5f;
+  ty = (0.5f - cy * 0.5f) * c.size - 0.5f;
+  return std::abs(cx) <= 1.0f && std::abs(cy) <= 1.0f && cz >= 0.0f && cz <= 1.0f;
+}
 
+// The PCF filter around texel coordinates (tx, ty) inside the map.
+float filter_taps(const ShadowMap& m, float tx, float ty, float receiver) {
+  const int r = std::max(m.pcf_radius, 0);
+  const int size = m.size;
+  const std::vector<float>& depth = m.depth;
   // A (2r+1)-texel box filter centred on the point, taps weighted by their
   // overlap with it: the edge rows and columns get the bilinear fractions, so
   // visibility varies continuously as the point moves.
-  const float tx = (clip.x * 0.5f + 0.5f) * float(size) - 0.5f;
-  const float ty = (0.5f - clip.y * 0.5f) * float(size) - 0.5f;
   // |clip.x|, |clip.y| <= 1: small, finite texel coordinates.
   const int x0 = floor_to_int(tx);
   const int y0 = floor_to_int(ty);
@@ -201,6 +229,32 @@ float ShadowMap::visibility(const glm::vec3& world_pos, const glm::vec3& normal)
   if (!(shadowed > 0.0f)) return 1.0f;
   if (!(lit > 0.0f)) return 0.0f;
   return lit / (lit + shadowed);
+}
+
+}  // namespace
+
+float ShadowMap::visibility(const glm::vec3& world_pos, const glm::vec3& normal) const {
+  if (size <= 0 || depth.size() < size_t(size) * size_t(size)) return 1.0f;
+  float tx, ty, receiver;
+  if (!project_receiver(*this, LookupConstants(*this), world_pos.x, world_pos.y, world_pos.z, normal.x, normal.y,
+                        normal.z, tx, ty, receiver))
+    return 1.0f;
+  return filter_taps(*this, tx, ty, receiver);
+}
+
+void ShadowMap::visibility(const ShadowReceivers& points, float* out) const {
+  const int n = points.count;
+  if (size <= 0 || depth.size() < size_t(size) * size_t(size)) {
+    std::fill(out, out + n, 1.0f);
+    return;
+  }
+  const LookupConstants c(*this);
+  float tx[ShadowReceivers::kCapacity], ty[ShadowReceivers::kCapacity], receiver[ShadowReceivers::kCapacity];
+  int inside[ShadowReceivers::kCapacity];  // int, not bool: a bool array does not vectorise
+  for (int k = 0; k < n; ++k)
+    inside[k] = project_receiver(*this, c, points.px[k], points.py[k], points.pz[k], points.nx[k], points.ny[k],
+                                 points.nz[k], tx[k], ty[k], receiver[k]);
+  for (int k = 0; k < n; ++k) out[k] = inside[k] ? filter_taps(*this, tx[k], ty[k], receiver[k]) : 1.0f;
 }
 
 }  // namespace cr

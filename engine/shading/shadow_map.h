@@ -11,6 +11,15 @@
 
 namespace cr {
 
+// Points whose shadow is looked up together (structure of arrays, so that
+// their projection into the map vectorises).
+struct ShadowReceivers {
+  static constexpr int kCapacity = 64;
+  int count = 0;
+  float px[kCapacity], py[kCapacity], pz[kCapacity];  // world position
+  float nx[kCapacity], ny[kCapacity], nz[kCapacity];  // normal, as for ShadowMap::visibility
+};
+
 struct ShadowMap {
   int size = 0;                 // size x size texels; 0 = no shadow map (everything lit)
   glm::dvec3 origin{0.0};       // world origin the projection is relative to (texel-snapped)
@@ -24,6 +33,8 @@ struct ShadowMap {
   // Fraction of the sun visible at a world point in [0, 1] (1 = lit). `normal`
   // (unit, may be zero) drives the normal-offset and slope-scaled biases.
   float visibility(const glm::vec3& world_pos, const glm::vec3& normal) const;
+  // visibility() of every receiver: out[k] for point k, the same floats.
+  void visibility(const ShadowReceivers& points, float* out) const;
 };
 
 // Chooses the shadow projection for a view, with an empty depth image (reads

@@ -1,41 +1,13 @@
 #include "engine/shading/texture_sampler.h"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <limits>
 
 #include "engine/shading/small_floor.h"
-#include "engine/core/srgb.h"
 
 namespace cr {
 namespace {
-
-// Value of each 8-bit code of a linear (UNORM) channel, code / 255, so that
-// every channel decodes by one lookup like the sRGB ones.
-const std::array<float, 256>& unorm_decode_table() {
-  static const std::array<float, 256> table = [] {
-    std::array<float, 256> t{};
-    for (int i = 0; i < 256; ++i) t[size_t(i)] = float(i) / 255.0f;
-    return t;
-  }();
-  return table;
-}
-
-// The decode tables of one image, looked up once per lookup rather than per texel.
-struct TexelDecoder {
-  const float* rgb;
-  const float* alpha;
-
-  explicit TexelDecoder(const Image& image)
-      : rgb(image.srgb ? srgb_decode_table().data() : unorm_decode_table().data()),
-        alpha(unorm_decode_table().data()) {}
-
-  glm::vec4 operator()(const MipLevel& m, uint32_t texel) const {
-    const uint8_t* p = &m.rgba[size_t(texel) * 4];
-    return {rgb[p[0]], rgb[p[1]], rgb[p[2]], alpha[p[3]]};
-  }
-};
 
 // Integer texel index under a wrap mode (OpenGL's formulas for each mode).
 // Reduced coordinates (below) put nearly every index inside [0, n) already,
@@ -60,7 +32,7 @@ int wrap_index(int i, int n, Wrap wrap) {
 
 // Brings a coordinate into a small range with the same wrapped result, so
 // that huge or non-finite UVs never overflow the integer texel index.
-float reduce_coordinate(float u, Wrap wrap) {
+inline float reduce_coordinate(float u, Wrap wrap) {
   if (!std::isfinite(u)) return 0.0f;
   // From 2^23 up every float is an integer (u - floor(u) = 0); below, the
   // cheap floor is exact.
@@ -77,11 +49,13 @@ float reduce_coordinate(float u, Wrap wrap) {
 }
 
 // One level's share of a footprint on coordinates already reduced (they do
-// not depend on the level, so trilinear lookups reduce once for both levels).
-TextureFootprint::Level level_footprint(const MipLevel& m, int index, float ru, float rv, Filter filter,
-                                        Wrap wrap_s, Wrap wrap_t) {
-  TextureFootprint::Level f;
+// not depend on the level, so trilinear lookups reduce once for both levels),
+// written in place: returned through the stack, its fields were reloaded in
+// pieces that did not match the stores (store-forwarding stalls).
+[[gnu::always_inline]] inline void level_footprint(TextureFootprint::Level& f, const MipLevel& m, int index, float ru,
+                                                   float rv, Filter filter, Wrap wrap_s, Wrap wrap_t) {
   f.index = index;
+  f.ax = f.ay = 0.0f;
   const float u = ru * float(m.width);
   const float v = rv * float(m.height);
   // Reduced coordinates are small, so floor_to_int applies.
@@ -90,7 +64,7 @@ TextureFootprint::Level level_footprint(const MipLevel& m, int index, float ru, 
     const int y = wrap_index(floor_to_int(v), m.height, wrap_t);
     const uint32_t o = uint32_t(y) * uint32_t(m.width) + uint32_t(x);
     f.texel[0] = f.texel[1] = f.texel[2] = f.texel[3] = o;  // weights 0: the texel itself, exactly
-    return f;
+    return;
   }
   // Texel centres sit at integer + 0.5.
   const float fx = u - 0.5f;
@@ -107,17 +81,64 @@ TextureFootprint::Level level_footprint(const MipLevel& m, int index, float ru, 
   f.texel[1] = y0 + x1;
   f.texel[2] = y1 + x0;
   f.texel[3] = y1 + x1;
-  return f;
 }
 
 // Always inlined: a glm::vec4 returned by value is split across two registers
 // through the stack, and the reload stalls on the store.
-[[gnu::always_inline]] inline glm::vec4 sample_level_footprint(const Image& image, const TexelDecoder& decode,
-                                 const TextureFootprint::Level& f) {
-  const MipLevel& m = image.mips[size_t(f.index)];
-  const glm::vec4 top = glm::mix(decode(m, f.texel[0]), decode(m, f.texel[1]), f.ax);
-  const glm::vec4 bottom = glm::mix(decode(m, f.texel[2]), decode(m, f.texel[3]), f.ax);
+[[gnu::always_inline]] inline glm::vec4 sample_level_footprint(const Image& image, const TextureFootprint::Level& f) {
+  const glm::vec4* texels = image.mips[size_t(f.index)].texels.data();
+  const glm::vec4 top = glm::mix(texels[f.texel[0]], texels[f.texel[1]], f.ax);
+  const glm::vec4 bottom = glm::mix(texels[f.texel[2]], texels[f.texel[3]], f.ax);
   return glm::mix(top, bottom, f.ay);
+}
+
+// texture_footprint written into `f` (which the caller may re-use): a
+// footprint returned by value was copied field by field through the stack.
+[[gnu::always_inline]] inline void compute_footprint(TextureFootprint& f, const Image& image, const Sampler& sampler,
+                                                     glm::vec2 uv, float lambda) {
+  f.levels = 0;
+  f.t = 0.0f;
+  if (image.mips.empty()) return;
+  const float ru = reduce_coordinate(uv.x, sampler.wrap_s);
+  const float rv = reduce_coordinate(uv.y, sampler.wrap_t);
+  auto at_level = [&](int slot, int level, Filter filter) __attribute__((always_inline)) {
+    level_footprint(f.level[slot], image.mips[size_t(level)], level, ru, rv, filter, sampler.wrap_s, sampler.wrap_t);
+  };
+  f.levels = 1;
+  // OpenGL's switch-over point: 0.5 when a linear magnification meets a
+  // nearest-within-level minification with mipmaps, so the switch is seamless.
+  const float c = (sampler.mag == Filter::Linear && sampler.min == Filter::Nearest && sampler.mip) ? 0.5f : 0.0f;
+  if (!(lambda > c) || !sampler.mip) {
+    at_level(0, 0, lambda > c ? sampler.min : sampler.mag);
+    return;
+  }
+  const int last = int(image.mips.size()) - 1;
+  if (*sampler.mip == Filter::Nearest) {
+    // OpenGL: d = ceil(lambda + 1/2) - 1 above 1/2, level 0 below.
+    const int level = lambda <= 0.5f ? 0 : int(std::min(std::ceil(lambda + 0.5f) - 1.0f, float(last)));
+    at_level(0, level, sampler.min);
+    return;
+  }
+  if (lambda >= float(last)) {
+    at_level(0, last, sampler.min);
+    return;
+  }
+  // Here 0 < lambda < last: small and finite.
+  const int level = floor_to_int(lambda);
+  at_level(0, level, sampler.min);
+  f.t = lambda - float(level);
+  // mix(a, b, 0) is a exactly (texels are finite): the second level adds nothing.
+  if (f.t == 0.0f) return;
+  at_level(1, level + 1, sampler.min);
+  f.levels = 2;
+}
+
+// sample_footprint, inlined into the lookups below.
+[[gnu::always_inline]] inline glm::vec4 filter_footprint(const Image& image, const TextureFootprint& f) {
+  if (f.levels == 0 || image.mips.empty()) return glm::vec4(1.0f);
+  const glm::vec4 a = sample_level_footprint(image, f.level[0]);
+  if (f.levels == 1) return a;
+  return glm::mix(a, sample_level_footprint(image, f.level[1]), f.t);
 }
 
 }  // namespace
@@ -125,7 +146,11 @@ TextureFootprint::Level level_footprint(const MipLevel& m, int index, float ru, 
 float texture_lod(const Image& image, glm::vec2 duv_dx, glm::vec2 duv_dy) {
   if (image.mips.empty()) return -std::numeric_limits<float>::infinity();
   const glm::vec2 size(float(image.mips[0].width), float(image.mips[0].height));
-  const float rho = std::max(glm::length(duv_dx * size), glm::length(duv_dy * size));
+  const glm::vec2 sx = duv_dx * size, sy = duv_dy * size;
+  // max(|sx|, |sy|) with one square root: sqrt is correctly rounded, hence
+  // monotonic, so this is the same float (NaN included: std::max keeps its
+  // first argument when a comparison fails, before and after the sqrt).
+  const float rho = std::sqrt(std::max(glm::dot(sx, sx), glm::dot(sy, sy)));
   // NaN derivatives (degenerate triangles) count as no minification.
   if (!(rho > 0.0f)) return -std::numeric_limits<float>::infinity();
   return std::log2(rho);
@@ -133,61 +158,24 @@ float texture_lod(const Image& image, glm::vec2 duv_dx, glm::vec2 duv_dy) {
 
 glm::vec4 fetch_texel(const Image& image, int level, int x, int y) {
   const MipLevel& m = image.mips[size_t(level)];
-  return TexelDecoder(image)(m, uint32_t(y) * uint32_t(m.width) + uint32_t(x));
+  return m.texels[size_t(y) * size_t(m.width) + size_t(x)];
 }
 
 glm::vec4 sample_level(const Image& image, int level, glm::vec2 uv, Filter filter, Wrap wrap_s,
                        Wrap wrap_t) {
-  const TextureFootprint::Level f = level_footprint(image.mips[size_t(level)], level, reduce_coordinate(uv.x, wrap_s),
-                                                    reduce_coordinate(uv.y, wrap_t), filter, wrap_s, wrap_t);
-  return sample_level_footprint(image, TexelDecoder(image), f);
+  TextureFootprint::Level f;
+  level_footprint(f, image.mips[size_t(level)], level, reduce_coordinate(uv.x, wrap_s), reduce_coordinate(uv.y, wrap_t),
+                  filter, wrap_s, wrap_t);
+  return sample_level_footprint(image, f);
 }
 
 TextureFootprint texture_footprint(const Image& image, const Sampler& sampler, glm::vec2 uv, float lambda) {
   TextureFootprint f;
-  if (image.mips.empty()) return f;
-  const float ru = reduce_coordinate(uv.x, sampler.wrap_s);
-  const float rv = reduce_coordinate(uv.y, sampler.wrap_t);
-  auto at_level = [&](int level, Filter filter) {
-    return level_footprint(image.mips[size_t(level)], level, ru, rv, filter, sampler.wrap_s, sampler.wrap_t);
-  };
-  f.levels = 1;
-  // OpenGL's switch-over point: 0.5 when a linear magnification meets a
-  // nearest-within-level minification with mipmaps, so the switch is seamless.
-  const float c = (sampler.mag == Filter::Linear && sampler.min == Filter::Nearest && sampler.mip) ? 0.5f : 0.0f;
-  if (!(lambda > c) || !sampler.mip) {
-    f.level[0] = at_level(0, lambda > c ? sampler.min : sampler.mag);
-    return f;
-  }
-  const int last = int(image.mips.size()) - 1;
-  if (*sampler.mip == Filter::Nearest) {
-    // OpenGL: d = ceil(lambda + 1/2) - 1 above 1/2, level 0 below.
-    const int level = lambda <= 0.5f ? 0 : int(std::min(std::ceil(lambda + 0.5f) - 1.0f, float(last)));
-    f.level[0] = at_level(level, sampler.min);
-    return f;
-  }
-  if (lambda >= float(last)) {
-    f.level[0] = at_level(last, sampler.min);
-    return f;
-  }
-  // Here 0 < lambda < last: small and finite.
-  const int level = floor_to_int(lambda);
-  f.level[0] = at_level(level, sampler.min);
-  f.t = lambda - float(level);
-  // mix(a, b, 0) is a exactly (texels are finite): the second level adds nothing.
-  if (f.t == 0.0f) return f;
-  f.level[1] = at_level(level + 1, sampler.min);
-  f.levels = 2;
+  compute_footprint(f, image, sampler, uv, lambda);
   return f;
 }
 
-glm::vec4 sample_footprint(const Image& image, const TextureFootprint& f) {
-  if (f.levels == 0 || image.mips.empty()) return glm::vec4(1.0f);
-  const TexelDecoder decode(image);
-  const glm::vec4 a = sample_level_footprint(image, decode, f.level[0]);
-  if (f.levels == 1) return a;
-  return glm::mix(a, sample_level_footprint(image, decode, f.level[1]), f.t);
-}
+glm::vec4 sample_footprint(const Image& image, const TextureFootprint& f) { return filter_footprint(image, f); }
 
 glm::vec4 sample_texture_at_lod(const Image& image, const Sampler& sampler, glm::vec2 uv, float lambda) {
   return sample_footprint(image, texture_footprint(image, sampler, uv, lambda));
@@ -196,6 +184,30 @@ glm::vec4 sample_texture_at_lod(const Image& image, const Sampler& sampler, glm:
 glm::vec4 sample_texture(const Image& image, const Sampler& sampler, glm::vec2 uv, glm::vec2 duv_dx,
                          glm::vec2 duv_dy) {
   return sample_texture_at_lod(image, sampler, uv, texture_lod(image, duv_dx, duv_dy));
+}
+
+void sample_textures(const TextureLookup* lookups, int count, glm::vec2 uv, glm::vec2 duv_dx, glm::vec2 duv_dy,
+                     glm::vec4* out) {
+  int width = -1, height = -1;
+  float lambda = 0.0f;
+  const Sampler* sampler = nullptr;
+  TextureFootprint f;
+  for (int k = 0; k < count; ++k) {
+    const Image& image = *lookups[k].image;
+    const int w = image.mips.empty() ? 0 : image.mips[0].width;
+    const int h = image.mips.empty() ? 0 : image.mips[0].height;
+    if (w != width || h != height) {
+      width = w;
+      height = h;
+      sampler = nullptr;
+      lambda = texture_lod(image, duv_dx, duv_dy);
+    }
+    if (lookups[k].sampler != sampler) {
+      sampler = lookups[k].sampler;
+      compute_footprint(f, image, *sampler, uv, lambda);
+    }
+    out[k] = filter_footprint(image, f);
+  }
 }
 
 }  // namespace cr

@@ -2,8 +2,9 @@
 // Texture lookups: an Image (RGBA8 mip chain) read through a glTF Sampler,
 // following the OpenGL 4.6 rules (section 8.14): level of detail from the
 // scale factor, magnification/minification filters, nearest or linear
-// (trilinear) mip selection, and the three glTF wrap modes. sRGB images are
-// decoded to linear per texel before filtering, as GPUs do.
+// (trilinear) mip selection, and the three glTF wrap modes. Texels are read
+// as decoded at load (MipLevel::texels, image_texels.h: sRGB to linear before
+// filtering, as GPUs do): every image sampled must have been decoded.
 #include <cstdint>
 
 #include <glm/glm.hpp>
@@ -53,5 +54,17 @@ glm::vec4 sample_texture_at_lod(const Image& image, const Sampler& sampler, glm:
 // image without levels reads as opaque white, the neutral factor.
 glm::vec4 sample_texture(const Image& image, const Sampler& sampler, glm::vec2 uv, glm::vec2 duv_dx,
                          glm::vec2 duv_dy);
+
+// One texture of several read at the same surface point.
+struct TextureLookup {
+  const Image* image = nullptr;
+  const Sampler* sampler = nullptr;
+};
+// sample_texture of each lookup at one point: out[k] for lookups[k]. Images
+// of one base size read through one sampler (a material's textures, mostly)
+// share the footprint, computed once: the LOD's log2, the wrapping and the
+// filter weights are a large part of a lookup.
+void sample_textures(const TextureLookup* lookups, int count, glm::vec2 uv, glm::vec2 duv_dx, glm::vec2 duv_dy,
+                     glm::vec4* out);
 
 }  // namespace cr

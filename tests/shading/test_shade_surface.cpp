@@ -3,6 +3,7 @@
 #include <cmath>
 #include <limits>
 
+#include "engine/scene/image_texels.h"
 #include "engine/shading/brdf.h"
 #include "engine/shading/material_eval.h"
 #include "engine/shading/sh_lighting.h"
@@ -18,7 +19,8 @@ constexpr float kPi = 3.14159265358979f;
 Image texel_image(uint8_t r, uint8_t g, uint8_t b, uint8_t a, bool srgb = false) {
   Image img;
   img.srgb = srgb;
-  img.mips.push_back(MipLevel{1, 1, {r, g, b, a}});
+  img.mips.push_back(MipLevel{1, 1, {r, g, b, a}, {}});
+  decode_texels(img);
   return img;
 }
 

@@ -262,3 +262,45 @@ TEST_CASE("shadow: the fit is stable - rotation keeps the scale, translation mov
   CHECK(std::abs(shift.y - std::round(shift.y)) < 1e-3f);
   CHECK(fit_shadow_map(a, sun, 50.0f, 0, 1, lo, hi).size == 0);
 }
+
+TEST_CASE("shadow: the batched lookup returns each point's own visibility, bit for bit") {
+  // Points over a box's shadow, its penumbra, lit ground, tilted normals,
+  // zero normals and points off the map, in one batch.
+  const Camera cam = Camera::look_at({-2, 3, 6}, {-1, 0, 0}, 1.0f, 1.0f, 0.1f);
+  for (int radius : {0, 1, 2}) {
+    ShadowMap map = fit_shadow_map(cam, sun_from(45.0f, 10.0f), 12.0f, 512, radius, {-50, 0, -50}, {50, 2, 50});
+    render_depth(map, [](const glm::dvec3& o, const glm::dvec3& d) {
+      return nearest(hit_plane(o, d, glm::dvec3(0.0), glm::dvec3(0, 1, 0)), hit_box(o, d, {-1, 0, -1}, {1, 2, 1}));
+    });
+    ShadowReceivers points;
+    std::vector<glm::vec3> position, normal;
+    for (int k = 0; k < ShadowReceivers::kCapacity; ++k) {
+      const float t = float(k) / float(ShadowReceivers::kCapacity - 1);
+      position.push_back(k % 9 == 8 ? glm::vec3(500.0f, 0.0f, 3.0f) : glm::vec3(-4.0f + 4.0f * t, 0.0f, 0.37f * t));
+      normal.push_back(k % 7 == 6 ? glm::vec3(0.0f) : glm::normalize(glm::vec3(0.3f * std::sin(float(k)), 1.0f, 0.2f)));
+      points.px[k] = position[k].x;
+      points.py[k] = position[k].y;
+      points.pz[k] = position[k].z;
+      points.nx[k] = normal[k].x;
+      points.ny[k] = normal[k].y;
+      points.nz[k] = normal[k].z;
+    }
+    points.count = ShadowReceivers::kCapacity;
+    float batched[ShadowReceivers::kCapacity];
+    map.visibility(points, batched);
+    int fractional = 0, outside = 0;
+    for (int k = 0; k < points.count; ++k) {
+      CHECK(batched[k] == map.visibility(position[k], normal[k]));
+      fractional += batched[k] > 0.0f && batched[k] < 1.0f;
+      outside += !inside_map(map, position[k], 0.0f);
+    }
+    CHECK(fractional > 0);
+    CHECK(outside > 0);
+  }
+  // No map: everything lit.
+  ShadowReceivers one;
+  one.count = 1;
+  float v = 0.0f;
+  ShadowMap{}.visibility(one, &v);
+  CHECK(v == 1.0f);
+}

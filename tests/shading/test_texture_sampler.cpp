@@ -6,6 +6,7 @@
 
 #include "engine/shading/small_floor.h"
 #include "engine/core/srgb.h"
+#include "engine/scene/image_texels.h"
 #include "engine/shading/texture_sampler.h"
 
 using namespace cr;
@@ -23,6 +24,7 @@ Image level_coded_image(int size) {
     for (size_t i = 0; i < size_t(s) * s; ++i) m.rgba[i * 4] = uint8_t(40 * l);
     img.mips.push_back(m);
   }
+  decode_texels(img);
   return img;
 }
 
@@ -39,6 +41,7 @@ Image row_image() {
     m.rgba[i * 4 + 3] = 255;
   }
   img.mips.push_back(m);
+  decode_texels(img);
   return img;
 }
 
@@ -153,7 +156,8 @@ TEST_CASE("sRGB images decode through the table; the table round-trips every cod
   }
   Image img;
   img.srgb = true;
-  img.mips.push_back(MipLevel{1, 1, {128, 64, 255, 128}});
+  img.mips.push_back(MipLevel{1, 1, {128, 64, 255, 128}, {}});
+  decode_texels(img);
   const glm::vec4 c = sample_level(img, 0, {0.5f, 0.5f}, Filter::Linear, Wrap::Repeat, Wrap::Repeat);
   CHECK(c.r == table[128]);
   CHECK(c.g == table[64]);
@@ -185,6 +189,7 @@ TEST_CASE("sample_level matches the specification's formulas bit for bit at and 
   m.height = 7;
   for (int i = 0; i < 13 * 7 * 4; ++i) m.rgba.push_back(uint8_t((i * 37 + 11) % 256));
   img.mips.push_back(m);
+  decode_texels(img);
   auto texel = [&](int x, int y) { return fetch_texel(img, 0, x, y); };
   for (Wrap wrap : {Wrap::Repeat, Wrap::ClampToEdge, Wrap::MirroredRepeat}) {
     for (float u : {-3.96f, -1.0f, -0.5f, -0.01f, 0.0f, 0.02f, 0.3f, 0.5f, 0.97f, 1.0f, 1.04f, 2.5f, 7.31f}) {
@@ -220,6 +225,7 @@ TEST_CASE("texture footprint: one footprint samples every image of its size as t
   for (MipLevel& m : b.mips)
     for (size_t i = 0; i < m.rgba.size(); ++i) m.rgba[i] = uint8_t((i * 37 + 11) % 251);
   b.srgb = true;
+  decode_texels(b);
   const Filter filters[2] = {Filter::Nearest, Filter::Linear};
   const Wrap wraps[3] = {Wrap::Repeat, Wrap::ClampToEdge, Wrap::MirroredRepeat};
   int compared = 0;
@@ -240,4 +246,53 @@ TEST_CASE("texture footprint: one footprint samples every image of its size as t
   CHECK(compared == 2 * 2 * 2 * 3 * 5 * 3);
   // An image without levels reads as opaque white through any footprint.
   CHECK(sample_footprint(Image{}, texture_footprint(a, Sampler{}, glm::vec2(0.5f), 0.0f)) == glm::vec4(1.0f));
+}
+
+TEST_CASE("sample_textures equals each image's own lookup, footprints shared or not") {
+  // Images of two sizes through two samplers, in an order that switches both
+  // (each switch recomputes what it invalidates), plus an image without levels.
+  Image small = level_coded_image(16);
+  Image large = level_coded_image(64);
+  Image other = level_coded_image(16);
+  for (MipLevel& m : other.mips)
+    for (size_t i = 0; i < m.rgba.size(); ++i) m.rgba[i] = uint8_t((i * 53 + 7) % 251);
+  other.srgb = true;
+  decode_texels(other);
+  const Image empty;
+  const Sampler trilinear = make_sampler(Filter::Linear, Filter::Linear, Filter::Linear);
+  const Sampler mirrored = make_sampler(Filter::Nearest, Filter::Linear, Filter::Nearest, Wrap::MirroredRepeat);
+  const TextureLookup lookups[] = {{&small, &trilinear}, {&other, &trilinear}, {&other, &mirrored},
+                                   {&large, &mirrored},  {&empty, &trilinear}, {&small, &trilinear}};
+  constexpr int kCount = int(std::size(lookups));
+  for (glm::vec2 uv : {glm::vec2(0.37f, 0.81f), glm::vec2(-1.3f, 2.6f)})
+    for (float scale : {0.0f, 0.004f, 0.03f, 0.2f, 3.0f}) {
+      const glm::vec2 dx(scale, 0.3f * scale), dy(-0.1f * scale, 0.7f * scale);
+      glm::vec4 out[kCount];
+      sample_textures(lookups, kCount, uv, dx, dy, out);
+      for (int k = 0; k < kCount; ++k)
+        CHECK(out[k] == sample_texture(*lookups[k].image, *lookups[k].sampler, uv, dx, dy));
+    }
+}
+
+TEST_CASE("decoded texels are the table decode of every code: sRGB colour, linear alpha and UNORM channels") {
+  // All 256 codes in every channel, for an sRGB and a linear image.
+  for (bool srgb : {false, true}) {
+    Image img;
+    img.srgb = srgb;
+    MipLevel m;
+    m.width = 256;
+    m.height = 1;
+    for (int i = 0; i < 256; ++i)
+      for (int c = 0; c < 4; ++c) m.rgba.push_back(uint8_t((i + 64 * c) % 256));
+    img.mips.push_back(m);
+    decode_texels(img);
+    REQUIRE(img.mips[0].texels.size() == 256);
+    for (int i = 0; i < 256; ++i) {
+      const glm::vec4 t = img.mips[0].texels[size_t(i)];
+      for (int c = 0; c < 4; ++c) {
+        const size_t code = size_t((i + 64 * c) % 256);
+        CHECK(t[c] == (srgb && c < 3 ? srgb_decode_table()[code] : float(code) / 255.0f));
+      }
+    }
+  }
 }
