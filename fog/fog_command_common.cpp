@@ -44,7 +44,9 @@ FogRun load_fog_run(const ArgParser& args, const PluginRegistry& registry) {
   if (run.profile.plugins.contains("fog"))
     run.fog_profile = parse_fog_profile(run.profile.plugins.at("fog"), run.profile.path);
   run.fog_profile = resolve_fog_settings(run.fog_profile, run.fog_scene);
-  run.scene = std::make_unique<Scene>(load_gltf(run.description.gltf_path));
+  GltfLoadOptions options;
+  options.texture_decode_budget = size_t(run.profile.texture_decode_budget_mb) << 20;
+  run.scene = std::make_unique<Scene>(load_gltf(run.description.gltf_path, options));
   return run;
 }
 

@@ -38,6 +38,7 @@ RunSetup load_run(const std::string& scene_path, const std::string& profile, con
   s.description = load_scene_description(scene_path, sections);
   GltfLoadOptions options;
   options.allow_missing_images = allow_missing_images;
+  options.texture_decode_budget = size_t(s.profile.texture_decode_budget_mb) << 20;
   s.scene = std::make_shared<Scene>(load_gltf(s.description.gltf_path, options));
   s.threads = threads > 0 ? threads : JobSystem::default_thread_count();
   s.frames = s.description.frames;

@@ -46,6 +46,8 @@ Profile parse_profile(const nlohmann::json& doc, const std::string& path,
       p.shadow_distance = static_cast<float>(root.number("shadow_distance", {0.0, 1e9, true}));
     } else if (key == "shadow_pcf_radius") {
       p.shadow_pcf_radius = root.integer("shadow_pcf_radius", 0, 4);
+    } else if (key == "texture_decode_budget_mb") {
+      p.texture_decode_budget_mb = root.integer("texture_decode_budget_mb", 0, 1 << 20);
     } else if (key == "frame_budget_ms") {
       p.frame_budget_ms = static_cast<float>(root.number("frame_budget_ms", {0.0, 1e9, true}));
     } else if (key == "precision") {
@@ -61,7 +63,7 @@ Profile parse_profile(const nlohmann::json& doc, const std::string& path,
       p.plugins[key] = doc.at(key);  // validated by the plugin that owns the section
     } else {
       std::string allowed = "name, resolution, tile_size, shadow_map_size, shadow_distance, "
-                            "shadow_pcf_radius, frame_budget_ms, precision";
+                            "shadow_pcf_radius, frame_budget_ms, texture_decode_budget_mb, precision";
       for (const std::string& s : plugin_sections) allowed += ", " + s;
       throw InputError(path, "unknown key '" + key + "' (allowed: " + allowed + ")");
     }

@@ -24,6 +24,10 @@ struct Profile {
   float shadow_distance = 300.0f; // metres from the camera covered by the shadow map
   int shadow_pcf_radius = 1;      // PCF kernel (2r+1)^2 taps
   float frame_budget_ms = 33.3f;
+  // Linear-float copies of textures (16 bytes a texel, faster to sample)
+  // for images while their total stays within this; the rest are sampled
+  // from RGBA8 through decode tables, with the same results.
+  int texture_decode_budget_mb = 512;
   Precision precision = Precision::Float32;
   nlohmann::json plugins = nlohmann::json::object();  // raw plugin sections by name
 };

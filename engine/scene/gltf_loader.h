@@ -26,6 +26,9 @@ struct GltfLoadOptions {
   // Load even when image files are missing: textures that use them are dropped
   // (their material falls back to its factors) and a warning names each one.
   bool allow_missing_images = false;
+  // Bytes of linear-float texture copies (image_texels.h) the loader may add:
+  // images in file order are decoded while they fit, the rest stay RGBA8.
+  size_t texture_decode_budget = size_t(512) << 20;
 };
 
 Scene load_gltf(const std::string& path, const GltfLoadOptions& options = {});

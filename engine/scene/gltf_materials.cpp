@@ -207,6 +207,7 @@ GltfMaterials load_materials(const GltfContext& ctx, const ImageDecodeLog& decod
              "and their materials use their factors: " + list);
   }
 
+  size_t decoded = 0;
   for (const auto& [source, srgb] : textures.sources()) {
     const tinygltf::Image& img = m.images[source];
     Image image;
@@ -220,7 +221,11 @@ GltfMaterials load_materials(const GltfContext& ctx, const ImageDecodeLog& decod
     }
     image.mips.push_back(std::move(base));
     generate_mips(image);
-    decode_texels(image);
+    const size_t bytes = decoded_texel_bytes(image);
+    if (bytes <= options.texture_decode_budget - decoded) {
+      decode_texels(image);
+      decoded += bytes;
+    }
     out.images.push_back(std::move(image));
   }
   return out;

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "engine/scene/image_texels.h"
 #include "engine/shading/small_floor.h"
 
 namespace cr {
@@ -85,10 +86,19 @@ inline float reduce_coordinate(float u, Wrap wrap) {
 
 // Always inlined: a glm::vec4 returned by value is split across two registers
 // through the stack, and the reload stalls on the store.
+// Levels without decoded floats (over the load budget) decode their four
+// texels by table: the same floats, so the same result.
 [[gnu::always_inline]] inline glm::vec4 sample_level_footprint(const Image& image, const TextureFootprint::Level& f) {
-  const glm::vec4* texels = image.mips[size_t(f.index)].texels.data();
-  const glm::vec4 top = glm::mix(texels[f.texel[0]], texels[f.texel[1]], f.ax);
-  const glm::vec4 bottom = glm::mix(texels[f.texel[2]], texels[f.texel[3]], f.ax);
+  const MipLevel& m = image.mips[size_t(f.index)];
+  if (!m.texels.empty()) {
+    const glm::vec4* texels = m.texels.data();
+    const glm::vec4 top = glm::mix(texels[f.texel[0]], texels[f.texel[1]], f.ax);
+    const glm::vec4 bottom = glm::mix(texels[f.texel[2]], texels[f.texel[3]], f.ax);
+    return glm::mix(top, bottom, f.ay);
+  }
+  const TexelDecoder decode(image);
+  const glm::vec4 top = glm::mix(decode(m, f.texel[0]), decode(m, f.texel[1]), f.ax);
+  const glm::vec4 bottom = glm::mix(decode(m, f.texel[2]), decode(m, f.texel[3]), f.ax);
   return glm::mix(top, bottom, f.ay);
 }
 
@@ -158,7 +168,8 @@ float texture_lod(const Image& image, glm::vec2 duv_dx, glm::vec2 duv_dy) {
 
 glm::vec4 fetch_texel(const Image& image, int level, int x, int y) {
   const MipLevel& m = image.mips[size_t(level)];
-  return m.texels[size_t(y) * size_t(m.width) + size_t(x)];
+  const size_t i = size_t(y) * size_t(m.width) + size_t(x);
+  return m.texels.empty() ? TexelDecoder(image)(m, i) : m.texels[i];
 }
 
 glm::vec4 sample_level(const Image& image, int level, glm::vec2 uv, Filter filter, Wrap wrap_s,

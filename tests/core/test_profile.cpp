@@ -64,6 +64,7 @@ TEST_CASE("profile: out-of-range values and unknown keys name the key") {
   CHECK(parse_error({{"shadow_map_size", 8193}}).find("'shadow_map_size'") != std::string::npos);
   CHECK(parse_error({{"shadow_distance", 0}}).find("'shadow_distance'") != std::string::npos);
   CHECK(parse_error({{"shadow_pcf_radius", 5}}).find("'shadow_pcf_radius'") != std::string::npos);
+  CHECK(parse_error({{"texture_decode_budget_mb", -1}}).find("'texture_decode_budget_mb'") != std::string::npos);
   CHECK(parse_error({{"frame_budget_ms", -1}}).find("'frame_budget_ms'") != std::string::npos);
   CHECK(parse_error({{"frame_budget_ms", "fast"}}).find("must be a number") != std::string::npos);
   CHECK(parse_error({{"precision", "float16"}}).find("'precision'") != std::string::npos);
