@@ -71,19 +71,14 @@ Weights weights_of(const FroxelGrid& g, const Axis& ax, const Axis& ay) {
                  {(1 - ax.a) * (1 - ay.a), ax.a * (1 - ay.a), (1 - ax.a) * ay.a, ax.a * ay.a}};
 }
 
-// Sky (at or beyond the far end): the columns' integrated end values.
-void lookup_far(const FroxelGrid& g, const IntegratedFroxel* volume, const Weights& wt, glm::vec3& in_scatter,
-                float& transmittance) {
-  const int nz = g.nz();
-  glm::vec3 l(0.0f);
-  float t = 0.0f;
-  for (int i = 0; i < 4; ++i) {
-    const IntegratedFroxel& f = volume[wt.at[i] + size_t(nz - 1)];
-    l += f.in_scatter * wt.w[i];
-    t += f.transmittance * wt.w[i];
-  }
-  in_scatter = l;
-  transmittance = t;
+// Sky (at or beyond the far end): the columns' integrated end values,
+// radiance in lanes 0-2 and transmittance in lane 3.
+__m128 lookup_far(const FroxelGrid& g, const IntegratedFroxel* volume, const Weights& wt) {
+  const size_t last = size_t(g.nz() - 1);
+  __m128 sum = _mm_setzero_ps();
+  for (int i = 0; i < 4; ++i)
+    sum = _mm_add_ps(sum, _mm_mul_ps(_mm_loadu_ps(&volume[wt.at[i] + last].in_scatter.x), _mm_set1_ps(wt.w[i])));
+  return sum;
 }
 
 // The bilinear reads of a pixel inside the grid into slot j of the batch.
@@ -150,15 +145,15 @@ void lookup_fog(const FroxelGrid& g, const std::vector<IntegratedFroxel>& volume
   if (!(distance > g.near_distance())) return;
   const float inv_size = 1.0f / float(g.froxel_size());
   const Weights wt = weights_of(g, axis_at(px, inv_size, g.nx()), axis_at(py, inv_size, g.ny()));
-  if (distance >= g.far_distance()) {
-    lookup_far(g, volume.data(), wt, in_scatter, transmittance);
-    return;
-  }
-  SliceBatch b(1);
-  gather_slice(g, volume.data(), wt, distance, b, 0);
-  resolve_slices(b, 1);
   alignas(16) float v[4];
-  _mm_store_ps(v, resolve_slot(b, 0));
+  if (distance >= g.far_distance()) {
+    _mm_store_ps(v, lookup_far(g, volume.data(), wt));
+  } else {
+    SliceBatch b(1);
+    gather_slice(g, volume.data(), wt, distance, b, 0);
+    resolve_slices(b, 1);
+    _mm_store_ps(v, resolve_slot(b, 0));
+  }
   in_scatter = glm::vec3(v[0], v[1], v[2]);
   transmittance = v[3];
 }
@@ -182,10 +177,9 @@ void composite_fog(const FroxelGrid& grid, const std::vector<IntegratedFroxel>& 
       if (!(d > near)) continue;  // in front of the grid (or no distance): no fog
       const Weights wt = weights_of(grid, columns[size_t(x - x0)], ay);
       if (d >= far) {
-        glm::vec3 in_scatter;
-        float transmittance;
-        lookup_far(grid, volume.data(), wt, in_scatter, transmittance);
-        color[i] = color[i] * transmittance + in_scatter;
+        alignas(16) float v[4];
+        _mm_store_ps(v, lookup_far(grid, volume.data(), wt));
+        color[i] = color[i] * v[3] + glm::vec3(v[0], v[1], v[2]);
         continue;
       }
       gather_slice(grid, volume.data(), wt, d, batch, n);
