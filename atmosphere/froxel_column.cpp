@@ -36,7 +36,6 @@ __attribute__((noinline)) void step_coordinates(const AtmosphereLuts& luts, floa
   const int ms_width = luts.multiscattering.image().width, ms_height = luts.multiscattering.image().height;
   const int t_width = luts.transmittance.image().width;
   const float ms_scale = float(ms_height - 1) / top;
-  const float ms_x_scale = 0.5f * float(ms_width - 1);
   for (size_t k = 0; k < n; ++k) {
     const float inv_r = 1.0f / (R + h[k]);
     const TransmittanceRow row = luts.transmittance.row(h[k]);
@@ -47,7 +46,7 @@ __attribute__((noinline)) void step_coordinates(const AtmosphereLuts& luts, floa
     ms_y0[k] = ms_y.i0;
     ms_y1[k] = ms_y.i1;
     ms_wy[k] = ms_y.w;
-    sample_coordinate(row, t_width, ms_width, ms_x_scale, r0_mu_s, t[k], inv_r, nu, t_x0[k], t_x1[k], t_w[k],
+    sample_coordinate(row, t_width, ms_width, r0_mu_s, t[k], inv_r, nu, t_x0[k], t_x1[k], t_w[k],
                       visible[k], ms_x0[k], ms_x1[k], ms_w[k]);
   }
 }

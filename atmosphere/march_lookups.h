@@ -16,15 +16,15 @@ namespace cr {
 // Lookup coordinates of one sample for the sun cosine mu = (r0_mu_s + t nu) / r
 // at the sample (row: its transmittance row, inv_r: 1 / its radius).
 // Branch-free (the shadow is a visibility factor of 0), so loops over it vectorize.
-inline void sample_coordinate(const TransmittanceRow& row, int t_width, int ms_width, float ms_x_scale, float r0_mu_s,
-                              float t, float inv_r, float nu, int& t_x0, int& t_x1, float& t_w, float& sun_visible,
-                              int& ms_x0, int& ms_x1, float& ms_w) {
+inline void sample_coordinate(const TransmittanceRow& row, int t_width, int ms_width, float r0_mu_s, float t,
+                              float inv_r, float nu, int& t_x0, int& t_x1, float& t_w, float& sun_visible, int& ms_x0,
+                              int& ms_x1, float& ms_w) {
   float mu = (r0_mu_s + t * nu) * inv_r;
   mu = mu < -1.0f ? -1.0f : (1.0f < mu ? 1.0f : mu);
   sun_lookup(row, t_width, mu, t_x0, t_x1, t_w, sun_visible);
-  // Multiple-scattering LUT column
+  // Multiple-scattering LUT column: MultiScatteringLut::sample()'s
   const float ms_last = float(ms_width - 1);
-  float mx = (mu + 1.0f) * ms_x_scale;
+  float mx = MultiScatteringMapping::to_unit(mu) * ms_last;
   mx = mx > 0.0f ? (mx < ms_last ? mx : ms_last) : 0.0f;
   const int mx0 = int(mx) < ms_width - 1 ? int(mx) : ms_width - 1;
   ms_x0 = mx0;

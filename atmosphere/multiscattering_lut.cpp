@@ -242,7 +242,7 @@ void MultiScatteringLut::bake(size_t begin, size_t end, const TransmittanceLut& 
     const AltitudeMarch am = march_altitude(model_, transmittance, altitude, directions_, steps_, ground_irradiance_);
     for (; i < row_end; ++i) {
       const int x = int(i % size_t(w));
-      const float mu_s = float(x) / float(w - 1) * 2.0f - 1.0f;
+      const float mu_s = MultiScatteringMapping::from_unit(float(x) / float(w - 1));
       glm::vec3 l2, fms;
       integrate_sun(am, transmittance, steps_, mu_s, l2, fms);
       const float fmax = std::max(fms.x, std::max(fms.y, fms.z));

@@ -123,12 +123,11 @@ namespace {
 // Lambertian ground at the end of a ray: direct sun plus the sky light
 // estimated from Psi_ms (the sphere-mean scattered luminance at the ground,
 // so E_sky ~ pi * Psi), seen through the ray's transmittance.
-glm::vec3 ground_luminance(const AtmosphereLuts& luts, const MarchedRay& ray, float r0_mu_s, float nu,
-                           float ms_x_scale) {
+glm::vec3 ground_luminance(const AtmosphereLuts& luts, const MarchedRay& ray, float r0_mu_s, float nu) {
   const float inv_r = 1.0f / float(luts.model.bottom_radius);
   const float mu_g = std::clamp((r0_mu_s + ray.ground_t * nu) * inv_r, -1.0f, 1.0f);
   const glm::vec3 sun = luts.transmittance.sun(ray.ground_row, mu_g) * std::max(mu_g, 0.0f);
-  const glm::vec3 psi = sample_bilinear(luts.multiscattering.image(), (mu_g + 1.0f) * ms_x_scale, 0.0f);
+  const glm::vec3 psi = luts.multiscattering.sample(0.0f, mu_g);
   return ray.transmittance * luts.model.ground_albedo * (sun / kPi + psi);
 }
 
@@ -158,13 +157,13 @@ struct ShadeScratch {
 // sample loop, GCC loses the restrict qualifiers and runs it scalar (a 1.4x
 // slower sky-view bake).
 __attribute__((noinline)) void sample_coordinates(const TransmittanceRow& row, int t_width, int ms_width,
-                                                  float ms_x_scale, float r0_mu_s, float t, float inv_r, size_t n,
+                                                  float r0_mu_s, float t, float inv_r, size_t n,
                                                   const float* __restrict nu, int* __restrict t_x0,
                                                   int* __restrict t_x1, float* __restrict t_w,
                                                   float* __restrict sun_visible, int* __restrict ms_x0,
                                                   int* __restrict ms_x1, float* __restrict ms_w) {
   for (size_t j = 0; j < n; ++j)
-    sample_coordinate(row, t_width, ms_width, ms_x_scale, r0_mu_s, t, inv_r, nu[j], t_x0[j], t_x1[j], t_w[j],
+    sample_coordinate(row, t_width, ms_width, r0_mu_s, t, inv_r, nu[j], t_x0[j], t_x1[j], t_w[j],
                       sun_visible[j], ms_x0[j], ms_x1[j], ms_w[j]);
 }
 
@@ -173,20 +172,19 @@ __attribute__((noinline)) void sample_coordinates(const TransmittanceRow& row, i
 ShadedRay shade_split(const AtmosphereLuts& luts, const MarchedRay& ray, float mu_s, float nu) {
   const float phase_r = rayleigh_phase(nu);
   const LutImage& ms = luts.multiscattering.image();
-  const float ms_x_scale = 0.5f * float(ms.width - 1);
   const float r0_mu_s = ray.r0 * mu_s;
   const PackedLuts packed(luts.transmittance, luts.multiscattering);
   Float4 rest{}, mie{};
   for (const MarchSample& s : ray.samples) {
     int t_x0, t_x1, ms_x0, ms_x1;
     float t_w, sun_visible, ms_w;
-    sample_coordinate(s.row, luts.transmittance.image().width, ms.width, ms_x_scale, r0_mu_s, s.t, s.inv_r, nu, t_x0,
+    sample_coordinate(s.row, luts.transmittance.image().width, ms.width, r0_mu_s, s.t, s.inv_r, nu, t_x0,
                       t_x1, t_w, sun_visible, ms_x0, ms_x1, ms_w);
     add_sample(packed, s.row.y, lut_coord(s.ms_y, ms.height), t_x0, t_x1, t_w, sun_visible, ms_x0, ms_x1, ms_w,
                phase_r, to_float4(s.w_rayleigh), to_float4(s.w_mie), to_float4(s.w_ms), rest, mie);
   }
   glm::vec3 l = to_vec3(rest);
-  if (ray.hits_ground) l += ground_luminance(luts, ray, r0_mu_s, nu, ms_x_scale);
+  if (ray.hits_ground) l += ground_luminance(luts, ray, r0_mu_s, nu);
   return {l, to_vec3(mie)};
 }
 
@@ -197,12 +195,11 @@ void shade_split_many(const AtmosphereLuts& luts, const MarchedRay& ray, float m
   sc.resize(n);
   const LutImage& ms = luts.multiscattering.image();
   const LutImage& tr = luts.transmittance.image();
-  const float ms_x_scale = 0.5f * float(ms.width - 1);
   const float r0_mu_s = ray.r0 * mu_s;
   const PackedLuts packed(luts.transmittance, luts.multiscattering);
   for (size_t j = 0; j < n; ++j) sc.phase_r[j] = rayleigh_phase(nu[j]);
   for (const MarchSample& s : ray.samples) {
-    sample_coordinates(s.row, tr.width, ms.width, ms_x_scale, r0_mu_s, s.t, s.inv_r, n, nu, sc.t_x0.data(),
+    sample_coordinates(s.row, tr.width, ms.width, r0_mu_s, s.t, s.inv_r, n, nu, sc.t_x0.data(),
                        sc.t_x1.data(), sc.t_w.data(), sc.sun_visible.data(), sc.ms_x0.data(), sc.ms_x1.data(),
                        sc.ms_w.data());
     const LutCoord ms_y = lut_coord(s.ms_y, ms.height);
@@ -213,7 +210,7 @@ void shade_split_many(const AtmosphereLuts& luts, const MarchedRay& ray, float m
   }
   for (size_t j = 0; j < n; ++j) {
     glm::vec3 l = to_vec3(sc.rest[j]);
-    if (ray.hits_ground) l += ground_luminance(luts, ray, r0_mu_s, nu[j], ms_x_scale);
+    if (ray.hits_ground) l += ground_luminance(luts, ray, r0_mu_s, nu[j]);
     out[j] = {l, to_vec3(sc.mie[j])};
   }
 }

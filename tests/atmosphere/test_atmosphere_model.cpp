@@ -5,6 +5,7 @@
 
 #include "atmosphere/atmosphere_model.h"
 #include "atmosphere/atmosphere_settings.h"
+#include "atmosphere/multiscattering_lut.h"
 #include "atmosphere/phase_functions.h"
 #include "atmosphere/planet_geometry.h"
 #include "atmosphere/skyview_lut.h"
@@ -153,6 +154,21 @@ TEST_CASE("LUT mappings round-trip") {
     const double mu_h = horizon_mu(m.bottom_radius + altitude, m.bottom_radius);
     CHECK(sm.to_unit(float(mu_h) + 1e-4f, 1.0f).y < 0.5f);
     CHECK(sm.to_unit(float(mu_h) - 1e-4f, 1.0f).y > 0.5f);
+  }
+  using MsMapping = MultiScatteringMapping;
+  for (float u : {0.0f, 0.03f, 2.0f / 31.0f, 0.2f, 0.5f, 20.0f / 31.0f, 0.8f, 1.0f}) {
+    CAPTURE(u);
+    CHECK(MsMapping::to_unit(MsMapping::from_unit(u)) == doctest::Approx(u).epsilon(1e-5));
+  }
+  CHECK(MsMapping::from_unit(0.0f) == -1.0f);
+  CHECK(MsMapping::from_unit(1.0f) == doctest::Approx(1.0f));
+  // Increasing and continuous where the pieces meet: no step larger than the dense piece's slope allows.
+  const float dense_slope = (18.0f / 31.0f) / 0.4f, dmu = 0.005f;
+  for (float mu = -1.0f; mu < 1.0f; mu += dmu) {
+    const float du = MsMapping::to_unit(mu + dmu) - MsMapping::to_unit(mu);
+    CAPTURE(mu);
+    CHECK(du > 0.0f);
+    CHECK(du <= dense_slope * dmu * 1.001f);
   }
 }
 

@@ -28,13 +28,12 @@ bool same_bits(const float* packed, const glm::vec3& v) { return std::memcmp(pac
 ShadedRay shade_reference(const AtmosphereLuts& luts, const MarchedRay& ray, float mu_s, float nu) {
   const float phase_r = rayleigh_phase(nu);
   const LutImage& ms = luts.multiscattering.image();
-  const float ms_x_scale = 0.5f * float(ms.width - 1);
   const float r0_mu_s = ray.r0 * mu_s;
   glm::vec3 l(0.0f), mie(0.0f);
   for (const MarchSample& s : ray.samples) {
     const float mu_s_t = std::clamp((r0_mu_s + s.t * nu) * s.inv_r, -1.0f, 1.0f);
     const glm::vec3 sun = luts.transmittance.sun(s.row, mu_s_t);
-    const glm::vec3 psi = sample_bilinear(ms, (mu_s_t + 1.0f) * ms_x_scale, s.ms_y);
+    const glm::vec3 psi = sample_bilinear(ms, MultiScatteringMapping::to_unit(mu_s_t) * float(ms.width - 1), s.ms_y);
     l += sun * s.w_rayleigh * phase_r + psi * s.w_ms;
     mie += sun * s.w_mie;
   }
@@ -42,7 +41,7 @@ ShadedRay shade_reference(const AtmosphereLuts& luts, const MarchedRay& ray, flo
     const float inv_r = 1.0f / float(luts.model.bottom_radius);
     const float mu_g = std::clamp((r0_mu_s + ray.ground_t * nu) * inv_r, -1.0f, 1.0f);
     const glm::vec3 sun = luts.transmittance.sun(ray.ground_row, mu_g) * std::max(mu_g, 0.0f);
-    const glm::vec3 psi = sample_bilinear(ms, (mu_g + 1.0f) * ms_x_scale, 0.0f);
+    const glm::vec3 psi = sample_bilinear(ms, MultiScatteringMapping::to_unit(mu_g) * float(ms.width - 1), 0.0f);
     l += ray.transmittance * luts.model.ground_albedo * (sun / kPi + psi);
   }
   return {l, mie};
