@@ -41,4 +41,13 @@ inline bool needs_tangent(const Material& material) { return material.normal.val
 
 MaterialSample evaluate_material(const Scene& scene, const Material& material, const SurfaceSample& surface);
 
+// evaluate_material up to the normal map, from the surface's UV (with
+// derivatives) and vertex colour: every field of `m` but the normal. With a
+// normal map, `tangent_normal` gets its tangent-space normal (XY scaled),
+// which evaluate_material turns into world space point by point and
+// evaluate_materials (material_batch.h) batch-wide.
+void evaluate_material_factors(const Scene& scene, const Material& material, glm::vec2 uv, glm::vec2 duv_dx,
+                               glm::vec2 duv_dy, const glm::vec4& color, MaterialSample& m,
+                               glm::vec3& tangent_normal);
+
 }  // namespace cr
