@@ -50,11 +50,18 @@ void evaluate_materials(const Scene& scene, const SurfaceBatch& surfaces, const 
   TangentNormals normals;
   bool any_mapped = false;
   batch.count = surfaces.count;
+  // Runs of points share a material: its textures are set up once a run.
+  const Material* prepared = nullptr;
+  MaterialTextures textures;
   for (int i = 0; i < surfaces.count; ++i) {
     const Material& material = *materials[i];
+    if (&material != prepared) {
+      textures = MaterialTextures(scene, material);
+      prepared = &material;
+    }
     MaterialSample m;
     glm::vec3 tangent_normal(0.0f);
-    evaluate_material_factors(scene, material, {surfaces.u[i], surfaces.v[i]}, {surfaces.du_dx[i], surfaces.dv_dx[i]},
+    evaluate_material_factors(material, textures, {surfaces.u[i], surfaces.v[i]}, {surfaces.du_dx[i], surfaces.dv_dx[i]},
                               {surfaces.du_dy[i], surfaces.dv_dy[i]},
                               {surfaces.cr[i], surfaces.cg[i], surfaces.cb[i], surfaces.ca[i]}, m, tangent_normal);
     const bool mapped = material.normal.valid();

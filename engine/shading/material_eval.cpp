@@ -42,15 +42,8 @@ float material_alpha(const Scene& scene, const Material& material, const Surface
   return saturate(material.base_color_factor.a * texture_alpha * surface.color.a);
 }
 
-void evaluate_material_factors(const Scene& scene, const Material& material, glm::vec2 uv, glm::vec2 duv_dx,
-                               glm::vec2 duv_dy, const glm::vec4& color, MaterialSample& m,
-                               glm::vec3& tangent_normal) {
-  // The material's textures, looked up together (they share footprints);
-  // a slot without a texture reads as opaque white, the neutral factor.
-  enum Slot { kBaseColor, kMetallicRoughness, kNormal, kOcclusion, kEmissive, kSlots };
-  TextureLookup lookups[kSlots];
-  int lookup_of[kSlots];
-  int count = 0;
+MaterialTextures::MaterialTextures(const Scene& scene, const Material& material) {
+  // A slot without a texture reads as opaque white, the neutral factor.
   auto use = [&](Slot slot, const TextureRef& ref) {
     lookup_of[slot] = -1;
     if (!ref.valid()) return;
@@ -66,9 +59,17 @@ void evaluate_material_factors(const Scene& scene, const Material& material, glm
     use(kEmissive, material.emissive);
   else
     lookup_of[kEmissive] = -1;
+}
+
+void evaluate_material_factors(const Material& material, const MaterialTextures& textures, glm::vec2 uv,
+                               glm::vec2 duv_dx, glm::vec2 duv_dy, const glm::vec4& color, MaterialSample& m,
+                               glm::vec3& tangent_normal) {
+  using enum MaterialTextures::Slot;
   glm::vec4 texels[kSlots];
-  sample_textures(lookups, count, uv, duv_dx, duv_dy, texels);
-  auto texel = [&](Slot slot) { return lookup_of[slot] >= 0 ? texels[lookup_of[slot]] : glm::vec4(1.0f); };
+  sample_textures(textures.lookups, textures.count, uv, duv_dx, duv_dy, texels);
+  auto texel = [&](MaterialTextures::Slot slot) {
+    return textures.lookup_of[slot] >= 0 ? texels[textures.lookup_of[slot]] : glm::vec4(1.0f);
+  };
 
   const glm::vec4 base = material.base_color_factor * texel(kBaseColor) * color;
   m.base_color = glm::max(glm::vec3(base), glm::vec3(0.0f));
@@ -98,8 +99,8 @@ void evaluate_material_factors(const Scene& scene, const Material& material, glm
 MaterialSample evaluate_material(const Scene& scene, const Material& material, const SurfaceSample& surface) {
   MaterialSample m;
   glm::vec3 tangent_normal(0.0f);
-  evaluate_material_factors(scene, material, surface.uv, surface.duv_dx, surface.duv_dy, surface.color, m,
-                            tangent_normal);
+  evaluate_material_factors(material, MaterialTextures(scene, material), surface.uv, surface.duv_dx, surface.duv_dy,
+                            surface.color, m, tangent_normal);
   m.normal = material.normal.valid() ? apply_normal_map(tangent_normal, surface) : surface.normal;
   return m;
 }
