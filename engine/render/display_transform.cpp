@@ -45,6 +45,14 @@ DisplayTransform::DisplayTransform(float ev100) : ev100_(ev100), exposure_(expos
     int code = 0;
     while (code < 255 && !(start < threshold_[code + 1])) ++code;
     bucket_code_[b] = uint8_t(code);
+    // Codes the bucket's values can climb past its start's; the last bucket
+    // takes every value above its start.
+    const bool last = b + 1 == bucket_code_.size();
+    const float end = last ? std::numeric_limits<float>::infinity()
+                           : std::bit_cast<float>(kLowBits + uint32_t((b + 1) << kBucketShift));
+    int steps = 0;
+    while (code + steps < 255 && threshold_[code + steps + 1] < end) ++steps;
+    bucket_steps_ = std::max(bucket_steps_, steps);
   }
 }
 
@@ -54,7 +62,8 @@ uint8_t DisplayTransform::encode(float radiance) const {
   if (!(e < std::numeric_limits<float>::infinity())) return code_of_exposed(e);
   const uint32_t bits = std::min(std::max(std::bit_cast<uint32_t>(e), kLowBits), kHighBits);
   int code = bucket_code_[(bits - kLowBits) >> kBucketShift];
-  while (code < 255 && !(e < threshold_[code + 1])) ++code;
+  // threshold_[256] is infinite: the code stops at 255.
+  for (int s = 0; s < bucket_steps_; ++s) code += e >= threshold_[code + 1] ? 1 : 0;
   return uint8_t(code);
 }
 

@@ -10,10 +10,12 @@
 #include "engine/raster/tiled_rasterizer.h"
 #include "engine/render/display_transform.h"
 #include "engine/render/frame_view.h"
+#include "engine/shading/material_batch.h"
 #include "engine/shading/material_eval.h"
 #include "engine/shading/sh_lighting.h"
 #include "engine/shading/shade_surface.h"
 #include "engine/shading/surface.h"
+#include "engine/shading/surface_batch.h"
 
 namespace cr {
 
@@ -254,12 +256,19 @@ const FrameRecord& Renderer::render_frame(int frame) {
     const glm::vec3 background = description_.ambient;
     std::vector<uint64_t> shaded_rows(size_t(h), 0);
     jobs_.parallel_for("shade", size_t(h), 4, [&](size_t y0, size_t y1) {
-      // Pixels of a row are shaded in batches; `where` maps a batch entry to its pixel.
+      // Pixels of a row are shaded in batches; `where` maps a batch entry to
+      // its pixel. Surfaces are interpolated run by run (pixels on one
+      // triangle) and finished batch-wide, then their materials evaluated and lit.
+      SurfaceBatch surfaces;
+      const Material* materials[SurfaceBatch::kCapacity];
       ShadingBatch batch;
-      size_t where[ShadingBatch::kCapacity];
+      size_t where[SurfaceBatch::kCapacity];
       auto flush = [&] {
+        surfaces.finish();
+        evaluate_materials(scene_, surfaces, materials, batch);
         shader->shade_batch(batch);
         for (int k = 0; k < batch.count; ++k) buffers_.color[where[k]] = batch.radiance(k);
+        surfaces.clear();
         batch.clear();
       };
       // Neighbouring pixels mostly see the same triangle: set it up once.
@@ -269,10 +278,11 @@ const FrameRecord& Renderer::render_frame(int frame) {
       const Material* material = nullptr;
       for (size_t y = y0; y < y1; ++y) {
         uint64_t n = 0;
-        for (int x = 0; x < w; ++x) {
+        for (int x = 0; x < w;) {
           const size_t i = y * size_t(w) + size_t(x);
           if (ids[i] == kNoTriangle) {
             buffers_.color[i] = background;
+            ++x;
             continue;
           }
           if (ids[i] != current_id) {
@@ -280,17 +290,22 @@ const FrameRecord& Renderer::render_frame(int frame) {
             interp = &geo.view.interp(ids[i]);
             current_id = ids[i];
           }
-          const Barycentrics bary = interpolate(*interp, float(x) + 0.5f, float(y) + 0.5f);
-          const SurfaceSample s = triangle->at(bary);
-          const Material* m = material;
-          where[batch.count] = i;
-          shader->add(batch, *m, s);
-          if (batch.full()) flush();
-          ++n;
+          // The run of pixels on this triangle, as far as the batch has room.
+          const int room = SurfaceBatch::kCapacity - surfaces.count;
+          int span = 1;
+          while (span < room && x + span < w && ids[i + size_t(span)] == current_id) ++span;
+          for (int k = 0; k < span; ++k) {
+            where[surfaces.count + k] = i + size_t(k);
+            materials[surfaces.count + k] = material;
+          }
+          triangle->add_span(surfaces, *interp, x, span, int(y));
+          if (surfaces.full()) flush();
+          x += span;
+          n += uint64_t(span);
         }
         shaded_rows[y] = n;
       }
-      if (batch.count > 0) flush();
+      if (surfaces.count > 0) flush();
     });
     uint64_t total = 0;
     for (uint64_t n : shaded_rows) total += n;  // fixed-order reduction

@@ -11,12 +11,8 @@ namespace {
 
 float saturate(float x) { return x > 0.0f ? (x < 1.0f ? x : 1.0f) : 0.0f; }
 
-// Tangent-space normal map (glTF: RGB in [0,1] -> [-1,1], XY scaled by
-// normalTexture.scale) into world space with B = cross(N, T) * w.
-glm::vec3 apply_normal_map(const glm::vec3& texel, float scale, const SurfaceSample& s) {
-  glm::vec3 t = texel * 2.0f - 1.0f;
-  t.x *= scale;
-  t.y *= scale;
+// The tangent-space normal (XY scaled) into world space with B = cross(N, T) * w.
+glm::vec3 apply_normal_map(const glm::vec3& t, const SurfaceSample& s) {
   const glm::vec3 tangent(s.tangent);
   const glm::vec3 bitangent = glm::cross(s.normal, tangent) * s.tangent.w;
   return normalize_or(tangent * t.x + bitangent * t.y + s.normal * t.z, s.normal);
@@ -46,13 +42,8 @@ float material_alpha(const Scene& scene, const Material& material, const Surface
   return saturate(material.base_color_factor.a * texture_alpha * surface.color.a);
 }
 
-MaterialSample evaluate_material(const Scene& scene, const Material& material, const SurfaceSample& surface) {
-  // The material's textures, looked up together (they share footprints);
-  // a slot without a texture reads as opaque white, the neutral factor.
-  enum Slot { kBaseColor, kMetallicRoughness, kNormal, kOcclusion, kEmissive, kSlots };
-  TextureLookup lookups[kSlots];
-  int lookup_of[kSlots];
-  int count = 0;
+MaterialTextures::MaterialTextures(const Scene& scene, const Material& material) {
+  // A slot without a texture reads as opaque white, the neutral factor.
   auto use = [&](Slot slot, const TextureRef& ref) {
     lookup_of[slot] = -1;
     if (!ref.valid()) return;
@@ -68,12 +59,19 @@ MaterialSample evaluate_material(const Scene& scene, const Material& material, c
     use(kEmissive, material.emissive);
   else
     lookup_of[kEmissive] = -1;
-  glm::vec4 texels[kSlots];
-  sample_textures(lookups, count, surface.uv, surface.duv_dx, surface.duv_dy, texels);
-  auto texel = [&](Slot slot) { return lookup_of[slot] >= 0 ? texels[lookup_of[slot]] : glm::vec4(1.0f); };
+}
 
-  MaterialSample m;
-  const glm::vec4 base = material.base_color_factor * texel(kBaseColor) * surface.color;
+void evaluate_material_factors(const Material& material, const MaterialTextures& textures, glm::vec2 uv,
+                               glm::vec2 duv_dx, glm::vec2 duv_dy, const glm::vec4& color, MaterialSample& m,
+                               glm::vec3& tangent_normal) {
+  using enum MaterialTextures::Slot;
+  glm::vec4 texels[kSlots];
+  sample_textures(textures.lookups, textures.count, uv, duv_dx, duv_dy, texels);
+  auto texel = [&](MaterialTextures::Slot slot) {
+    return textures.lookup_of[slot] >= 0 ? texels[textures.lookup_of[slot]] : glm::vec4(1.0f);
+  };
+
+  const glm::vec4 base = material.base_color_factor * texel(kBaseColor) * color;
   m.base_color = glm::max(glm::vec3(base), glm::vec3(0.0f));
   m.alpha = saturate(base.a);
 
@@ -81,16 +79,29 @@ MaterialSample evaluate_material(const Scene& scene, const Material& material, c
   m.roughness = saturate(material.roughness_factor * mr.g);
   m.metallic = saturate(material.metallic_factor * mr.b);
 
-  m.normal = material.normal.valid()
-                 ? apply_normal_map(glm::vec3(texel(kNormal)), material.normal.scale, surface)
-                 : surface.normal;
+  if (material.normal.valid()) {
+    // glTF: RGB in [0,1] -> [-1,1], XY scaled by normalTexture.scale.
+    tangent_normal = glm::vec3(texel(kNormal)) * 2.0f - 1.0f;
+    tangent_normal.x *= material.normal.scale;
+    tangent_normal.y *= material.normal.scale;
+  }
 
+  m.occlusion = 1.0f;
   if (material.occlusion.valid()) {
     const float strength = saturate(material.occlusion.scale);
     m.occlusion = 1.0f + strength * (texel(kOcclusion).r - 1.0f);
   }
+  m.emissive = glm::vec3(0.0f);
   if (material.emissive_factor != glm::vec3(0.0f))
     m.emissive = material.emissive_factor * glm::vec3(texel(kEmissive)) * kEmissiveNits;
+}
+
+MaterialSample evaluate_material(const Scene& scene, const Material& material, const SurfaceSample& surface) {
+  MaterialSample m;
+  glm::vec3 tangent_normal(0.0f);
+  evaluate_material_factors(material, MaterialTextures(scene, material), surface.uv, surface.duv_dx, surface.duv_dy,
+                            surface.color, m, tangent_normal);
+  m.normal = material.normal.valid() ? apply_normal_map(tangent_normal, surface) : surface.normal;
   return m;
 }
 

@@ -5,6 +5,7 @@
 
 #include "engine/scene/scene.h"
 #include "engine/shading/surface.h"
+#include "engine/shading/texture_sampler.h"
 
 namespace cr {
 
@@ -40,5 +41,26 @@ float material_alpha(const Scene& scene, const Material& material, const Surface
 inline bool needs_tangent(const Material& material) { return material.normal.valid(); }
 
 MaterialSample evaluate_material(const Scene& scene, const Material& material, const SurfaceSample& surface);
+
+// A material's textures as sample_textures reads them together (they share
+// footprints): set up once for the many points shaded with the material.
+struct MaterialTextures {
+  enum Slot { kBaseColor, kMetallicRoughness, kNormal, kOcclusion, kEmissive, kSlots };
+  TextureLookup lookups[kSlots];
+  int lookup_of[kSlots]{};  // slot -> lookup; -1: no texture, reads as opaque white (the neutral factor)
+  int count = 0;
+
+  MaterialTextures() = default;
+  MaterialTextures(const Scene& scene, const Material& material);
+};
+
+// evaluate_material up to the normal map, from the surface's UV (with
+// derivatives) and vertex colour: every field of `m` but the normal. With a
+// normal map, `tangent_normal` gets its tangent-space normal (XY scaled),
+// which evaluate_material turns into world space point by point and
+// evaluate_materials (material_batch.h) batch-wide. `textures` are the material's.
+void evaluate_material_factors(const Material& material, const MaterialTextures& textures, glm::vec2 uv,
+                               glm::vec2 duv_dx, glm::vec2 duv_dy, const glm::vec4& color, MaterialSample& m,
+                               glm::vec3& tangent_normal);
 
 }  // namespace cr

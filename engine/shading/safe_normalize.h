@@ -2,11 +2,16 @@
 // Normalisation that cannot produce NaN: shading runs on whatever the
 // interpolation hands it (zero normals of degenerate triangles, camera on the
 // surface), and one NaN pixel would poison filters and the fog downstream.
+#include <cfloat>
 #include <cmath>
 
 #include <glm/glm.hpp>
 
 namespace cr {
+
+// Whether a length normalises: not zero, denormal, infinite or NaN. For
+// vectorised loops (a select per lane); normalize_or_else's test in scalar code.
+inline bool usable_length(float len) { return len > 1e-20f && len <= FLT_MAX; }
 
 // v / |v|, or make_fallback() when v has no usable length (zero, denormal,
 // non-finite): for fallbacks that cost something to compute.

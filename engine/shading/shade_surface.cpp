@@ -17,8 +17,6 @@ constexpr float kPi = 3.14159265358979f;
 // far enough to be seen (a cheap form of the usual "visible normal" fix).
 constexpr float kMinNdotV = 1e-3f;
 
-// Lengths that normalise safely (safe_normalize.h's rule, as a select).
-inline bool usable_length(float len) { return len > 1e-20f && len <= FLT_MAX; }
 inline float finite_or_zero(float x) { return std::abs(x) <= FLT_MAX ? x : 0.0f; }
 
 // Sum of SH coefficients times the basis at d, in ShLighting's order.

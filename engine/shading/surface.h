@@ -11,6 +11,9 @@
 
 namespace cr {
 
+struct SurfaceBatch;    // surface_batch.h
+struct TriangleInterp;  // engine/raster/triangle_interp.h
+
 struct SurfaceSample {
   glm::vec3 position{0.0f};               // world space
   glm::vec3 normal{0.0f, 1.0f, 0.0f};     // unit, world space, towards the viewer's side for back faces
@@ -39,6 +42,12 @@ class TriangleSurface {
                   bool with_tangent = true);
   // The surface at barycentrics `bary`; UV derivatives from its derivatives.
   SurfaceSample at(const Barycentrics& bary) const;
+  // Appends the surfaces at the centres of pixels x0 .. x0 + count - 1 of
+  // row y, barycentrics from `interp` (the triangle's planes), to the batch
+  // (which must have room): interpolated but not yet made unit, so that
+  // once the batch is finished point k holds the floats of
+  // at(interpolate(interp, float(x0 + k) + 0.5f, float(y) + 0.5f)).
+  void add_span(SurfaceBatch& batch, const TriangleInterp& interp, int x0, int count, int y) const;
 
  private:
   glm::vec3 position_[3];

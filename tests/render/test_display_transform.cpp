@@ -33,6 +33,21 @@ TEST_CASE("display transform table matches resolve_pixel exactly") {
   }
 }
 
+TEST_CASE("display transform table matches resolve_pixel across every bucket of exposed values") {
+  // Exposed values from 2^-25 to 2^6 (past both ends of the table) at every
+  // 4099th float: each float-bits bucket (8192 wide) is met about twice, at
+  // offsets from its start that drift across it.
+  const float ev = 15.0f;
+  cr::DisplayTransform t(ev);
+  const float exposure = cr::exposure_scale(ev);
+  for (uint32_t bits = uint32_t(127 - 25) << 23; bits < uint32_t(127 + 6) << 23; bits += 4096 + 3) {
+    const float radiance = std::bit_cast<float>(bits) / exposure;
+    uint8_t ref[3];
+    cr::resolve_pixel(glm::vec3(radiance), exposure, ref);
+    REQUIRE(int(t.encode(radiance)) == int(ref[0]));
+  }
+}
+
 TEST_CASE("display transform codes are monotone in radiance") {
   cr::DisplayTransform t(15.0f);
   int last = 0;

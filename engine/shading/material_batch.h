@@ -1,0 +1,17 @@
+#pragma once
+// Materials evaluated over a batch of surface points: the texture lookups
+// and factors point by point, the normal maps batch-wide in one vectorised
+// loop (its square root and divides four points at a time).
+#include "engine/scene/scene.h"
+#include "engine/shading/shading_batch.h"
+#include "engine/shading/surface_batch.h"
+
+namespace cr {
+
+// Fills `batch` with the finished surfaces' points, point k shaded with
+// *materials[k]: what SurfaceShader::add appends for the surface at() gives
+// (the same floats, tested), so that SurfaceShader::shade_batch lights them.
+void evaluate_materials(const Scene& scene, const SurfaceBatch& surfaces, const Material* const* materials,
+                        ShadingBatch& batch);
+
+}  // namespace cr
