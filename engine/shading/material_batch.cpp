@@ -4,11 +4,13 @@
 
 #include "engine/shading/material_eval.h"
 #include "engine/shading/safe_normalize.h"
+#include "engine/shading/texture_sampler.h"
 
 namespace cr {
 namespace {
 
 static_assert(SurfaceBatch::kCapacity == ShadingBatch::kCapacity);
+static_assert(SurfaceBatch::kCapacity == TexturePoints::kCapacity);
 
 // Normal-map normals in tangent space (XY scaled); `mapped` is 1 where the
 // point's material has a normal map, else 0.
@@ -50,19 +52,25 @@ void evaluate_materials(const Scene& scene, const SurfaceBatch& surfaces, const 
   TangentNormals normals;
   bool any_mapped = false;
   batch.count = surfaces.count;
-  // Runs of points share a material: its textures are set up once a run.
-  const Material* prepared = nullptr;
+  // Runs of points share a material: its textures are set up once a run and
+  // looked up for the whole run together.
   MaterialTextures textures;
+  glm::vec4 texels[MaterialTextures::kSlots * ShadingBatch::kCapacity];
+  int run_begin = 0, run_end = 0;
   for (int i = 0; i < surfaces.count; ++i) {
     const Material& material = *materials[i];
-    if (&material != prepared) {
+    if (i == run_end) {
+      run_begin = i;
+      run_end = i + 1;
+      while (run_end < surfaces.count && materials[run_end] == &material) ++run_end;
       textures = MaterialTextures(scene, material);
-      prepared = &material;
+      const TexturePoints points{run_end - run_begin,  surfaces.u + i,     surfaces.v + i,    surfaces.du_dx + i,
+                                 surfaces.dv_dx + i, surfaces.du_dy + i, surfaces.dv_dy + i};
+      sample_textures(textures.lookups, textures.count, points, texels);
     }
     MaterialSample m;
     glm::vec3 tangent_normal(0.0f);
-    evaluate_material_factors(material, textures, {surfaces.u[i], surfaces.v[i]}, {surfaces.du_dx[i], surfaces.dv_dx[i]},
-                              {surfaces.du_dy[i], surfaces.dv_dy[i]},
+    evaluate_material_factors(material, textures, texels + (i - run_begin), run_end - run_begin,
                               {surfaces.cr[i], surfaces.cg[i], surfaces.cb[i], surfaces.ca[i]}, m, tangent_normal);
     const bool mapped = material.normal.valid();
     any_mapped |= mapped;

@@ -61,14 +61,11 @@ MaterialTextures::MaterialTextures(const Scene& scene, const Material& material)
     lookup_of[kEmissive] = -1;
 }
 
-void evaluate_material_factors(const Material& material, const MaterialTextures& textures, glm::vec2 uv,
-                               glm::vec2 duv_dx, glm::vec2 duv_dy, const glm::vec4& color, MaterialSample& m,
-                               glm::vec3& tangent_normal) {
+void evaluate_material_factors(const Material& material, const MaterialTextures& textures, const glm::vec4* texels,
+                               int stride, const glm::vec4& color, MaterialSample& m, glm::vec3& tangent_normal) {
   using enum MaterialTextures::Slot;
-  glm::vec4 texels[kSlots];
-  sample_textures(textures.lookups, textures.count, uv, duv_dx, duv_dy, texels);
   auto texel = [&](MaterialTextures::Slot slot) {
-    return textures.lookup_of[slot] >= 0 ? texels[textures.lookup_of[slot]] : glm::vec4(1.0f);
+    return textures.lookup_of[slot] >= 0 ? texels[textures.lookup_of[slot] * stride] : glm::vec4(1.0f);
   };
 
   const glm::vec4 base = material.base_color_factor * texel(kBaseColor) * color;
@@ -97,10 +94,12 @@ void evaluate_material_factors(const Material& material, const MaterialTextures&
 }
 
 MaterialSample evaluate_material(const Scene& scene, const Material& material, const SurfaceSample& surface) {
+  const MaterialTextures textures(scene, material);
+  glm::vec4 texels[MaterialTextures::kSlots];
+  sample_textures(textures.lookups, textures.count, surface.uv, surface.duv_dx, surface.duv_dy, texels);
   MaterialSample m;
   glm::vec3 tangent_normal(0.0f);
-  evaluate_material_factors(material, MaterialTextures(scene, material), surface.uv, surface.duv_dx, surface.duv_dy,
-                            surface.color, m, tangent_normal);
+  evaluate_material_factors(material, textures, texels, 1, surface.color, m, tangent_normal);
   m.normal = material.normal.valid() ? apply_normal_map(tangent_normal, surface) : surface.normal;
   return m;
 }

@@ -54,13 +54,13 @@ struct MaterialTextures {
   MaterialTextures(const Scene& scene, const Material& material);
 };
 
-// evaluate_material up to the normal map, from the surface's UV (with
-// derivatives) and vertex colour: every field of `m` but the normal. With a
-// normal map, `tangent_normal` gets its tangent-space normal (XY scaled),
-// which evaluate_material turns into world space point by point and
-// evaluate_materials (material_batch.h) batch-wide. `textures` are the material's.
-void evaluate_material_factors(const Material& material, const MaterialTextures& textures, glm::vec2 uv,
-                               glm::vec2 duv_dx, glm::vec2 duv_dy, const glm::vec4& color, MaterialSample& m,
-                               glm::vec3& tangent_normal);
+// evaluate_material up to the normal map, from the texels of the material's
+// lookups (sample_textures of `textures`: lookup k's at texels[k * stride])
+// and the vertex colour: every field of `m` but the normal. With a normal
+// map, `tangent_normal` gets its tangent-space normal (XY scaled), which
+// evaluate_material turns into world space point by point and
+// evaluate_materials (material_batch.h) batch-wide.
+void evaluate_material_factors(const Material& material, const MaterialTextures& textures, const glm::vec4* texels,
+                               int stride, const glm::vec4& color, MaterialSample& m, glm::vec3& tangent_normal);
 
 }  // namespace cr

@@ -151,6 +151,29 @@ inline float reduce_coordinate(float u, Wrap wrap) {
   return glm::mix(a, sample_level_footprint(image, f.level[1]), f.t);
 }
 
+// texture_lod's rho (before the log2) at every point, for a base level of
+// size w x h: a vectorised loop (out of line so that the restricts hold).
+[[gnu::noinline]] void footprint_scales(int n, float w, float h, const float* __restrict du_dx,
+                                        const float* __restrict dv_dx, const float* __restrict du_dy,
+                                        const float* __restrict dv_dy, float* __restrict rho) {
+  for (int i = 0; i < n; ++i) {
+    const float sxx = du_dx[i] * w, sxy = dv_dx[i] * h;
+    const float syx = du_dy[i] * w, syy = dv_dy[i] * h;
+    const float a = sxx * sxx + sxy * sxy, b = syx * syx + syy * syy;
+    rho[i] = std::sqrt(std::max(a, b));
+  }
+}
+
+// texture_lod at every point for an image with levels: its log2 calls back
+// to back, each independent of the last.
+void texture_lods(const Image& image, const TexturePoints& p, float* lambda) {
+  float rho[TexturePoints::kCapacity];
+  footprint_scales(p.count, float(image.mips[0].width), float(image.mips[0].height), p.du_dx, p.dv_dx, p.du_dy,
+                   p.dv_dy, rho);
+  for (int i = 0; i < p.count; ++i)
+    lambda[i] = rho[i] > 0.0f ? std::log2(rho[i]) : -std::numeric_limits<float>::infinity();
+}
+
 }  // namespace
 
 float texture_lod(const Image& image, glm::vec2 duv_dx, glm::vec2 duv_dy) {
@@ -218,6 +241,33 @@ void sample_textures(const TextureLookup* lookups, int count, glm::vec2 uv, glm:
       compute_footprint(f, image, *sampler, uv, lambda);
     }
     out[k] = filter_footprint(image, f);
+  }
+}
+
+void sample_textures(const TextureLookup* lookups, int count, const TexturePoints& points, glm::vec4* out) {
+  const int n = points.count;
+  int width = -1, height = -1;
+  const Sampler* sampler = nullptr;
+  float lambda[TexturePoints::kCapacity];
+  TextureFootprint f[TexturePoints::kCapacity];
+  for (int k = 0; k < count; ++k) {
+    const Image& image = *lookups[k].image;
+    glm::vec4* texel = out + size_t(k) * size_t(n);
+    if (image.mips.empty()) {  // no levels: opaque white, whatever the footprint
+      std::fill(texel, texel + n, glm::vec4(1.0f));
+      continue;
+    }
+    if (image.mips[0].width != width || image.mips[0].height != height) {
+      width = image.mips[0].width;
+      height = image.mips[0].height;
+      sampler = nullptr;
+      texture_lods(image, points, lambda);
+    }
+    if (lookups[k].sampler != sampler) {
+      sampler = lookups[k].sampler;
+      for (int i = 0; i < n; ++i) compute_footprint(f[i], image, *sampler, {points.u[i], points.v[i]}, lambda[i]);
+    }
+    for (int i = 0; i < n; ++i) texel[i] = filter_footprint(image, f[i]);
   }
 }
 

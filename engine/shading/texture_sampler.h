@@ -67,4 +67,18 @@ struct TextureLookup {
 void sample_textures(const TextureLookup* lookups, int count, glm::vec2 uv, glm::vec2 duv_dx, glm::vec2 duv_dy,
                      glm::vec4* out);
 
+// The UVs and UV derivatives of several surface points (structure of arrays).
+struct TexturePoints {
+  static constexpr int kCapacity = 64;
+  int count = 0;  // at most kCapacity
+  const float *u, *v;           // TEXCOORD_0
+  const float *du_dx, *dv_dx;   // UV change per pixel step in x
+  const float *du_dy, *dv_dy;   // ... and in y
+};
+// sample_textures at every point, lookup by lookup: out[k * points.count + i]
+// for lookups[k] at point i, the same floats. Each stage runs over all the
+// points before the next (LODs, footprints, filtering), so the square roots
+// and log2 calls of many points overlap instead of waiting one by one.
+void sample_textures(const TextureLookup* lookups, int count, const TexturePoints& points, glm::vec4* out);
+
 }  // namespace cr

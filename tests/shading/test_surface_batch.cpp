@@ -173,7 +173,8 @@ TEST_CASE("material batch: evaluate_materials appends SurfaceShader::add's float
   std::vector<SurfaceSample> samples;
   while (!surfaces.full()) {
     const int k = surfaces.count;
-    const Material& m = materials[size_t(k % 4)];
+    // Runs of one to three points share a material: its textures are looked up run by run.
+    const Material& m = materials[size_t((k / 3 + k / 7) % 4)];
     const TriangleSurface triangle(p, d, uint32_t(k % 4), k % 3 != 0, needs_tangent(m));
     const TriangleInterp planes = random_planes(rng);
     triangle.add_span(surfaces, planes, 300 + k, 1, 200);

@@ -323,3 +323,58 @@ TEST_CASE("images without decoded texels (over the load budget) sample to the sa
     CHECK(compared == 400);
   }
 }
+
+TEST_CASE("sample_textures over many points equals the lookups point by point, bit for bit") {
+  // Lookups that switch image size and sampler (each switch recomputes what it
+  // invalidates), an image without levels and one without decoded texels
+  // (over the load budget); points with zero, tiny, huge, infinite and NaN
+  // derivatives and UVs far outside [0, 1], so that every mip branch runs.
+  Image small = level_coded_image(16);
+  Image large = level_coded_image(64);
+  for (MipLevel& m : large.mips)
+    for (size_t i = 0; i < m.rgba.size(); ++i) m.rgba[i] = uint8_t((i * 41 + 5) % 256);
+  large.srgb = true;
+  decode_texels(large);
+  Image coded = large;
+  for (MipLevel& m : coded.mips) m.texels.clear();
+  const Image empty;
+  const Sampler trilinear = make_sampler(Filter::Linear, Filter::Linear, Filter::Linear);
+  const Sampler mirrored = make_sampler(Filter::Nearest, Filter::Linear, Filter::Nearest, Wrap::MirroredRepeat);
+  const Sampler clamped = make_sampler(Filter::Linear, Filter::Nearest, Filter::Linear, Wrap::ClampToEdge);
+  const Sampler base_only = make_sampler(Filter::Linear, Filter::Nearest, std::nullopt);
+  const TextureLookup lookups[] = {{&small, &trilinear}, {&small, &mirrored}, {&empty, &trilinear},
+                                   {&large, &mirrored},  {&coded, &mirrored}, {&large, &clamped},
+                                   {&small, &base_only}, {&coded, &trilinear}};
+  constexpr int kCount = int(std::size(lookups));
+  constexpr int kPoints = TexturePoints::kCapacity;
+  float u[kPoints], v[kPoints], du_dx[kPoints], dv_dx[kPoints], du_dy[kPoints], dv_dy[kPoints];
+  const float inf = std::numeric_limits<float>::infinity(), nan = std::numeric_limits<float>::quiet_NaN();
+  const float scales[] = {0.0f, 1e-6f, 0.004f, 0.011f, 0.03f, 0.07f, 0.2f, 3.0f, 1e30f, inf, nan};
+  for (int i = 0; i < kPoints; ++i) {
+    const float s = scales[size_t(i) % std::size(scales)];
+    u[i] = float(i) * 0.173f - 4.0f;
+    v[i] = float(i * i % 61) * 0.0419f - 1.0f;
+    du_dx[i] = s;
+    dv_dx[i] = 0.3f * s;
+    du_dy[i] = -0.1f * s * float(i % 3);
+    dv_dy[i] = 0.7f * s * float(i % 5);
+  }
+  u[7] = inf;
+  v[9] = nan;
+  u[11] = 3e9f;
+  for (int n : {kPoints, 37, 1}) {
+    const TexturePoints points{n, u, v, du_dx, dv_dx, du_dy, dv_dy};
+    glm::vec4 out[kCount * kPoints];
+    sample_textures(lookups, kCount, points, out);
+    int compared = 0;
+    for (int i = 0; i < n; ++i) {
+      glm::vec4 expected[kCount];
+      sample_textures(lookups, kCount, {u[i], v[i]}, {du_dx[i], dv_dx[i]}, {du_dy[i], dv_dy[i]}, expected);
+      for (int k = 0; k < kCount; ++k) {
+        CHECK(std::memcmp(&out[k * n + i], &expected[k], sizeof(glm::vec4)) == 0);
+        ++compared;
+      }
+    }
+    CHECK(compared == n * kCount);
+  }
+}
