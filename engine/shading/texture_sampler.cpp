@@ -222,26 +222,9 @@ glm::vec4 sample_texture(const Image& image, const Sampler& sampler, glm::vec2 u
 
 void sample_textures(const TextureLookup* lookups, int count, glm::vec2 uv, glm::vec2 duv_dx, glm::vec2 duv_dy,
                      glm::vec4* out) {
-  int width = -1, height = -1;
-  float lambda = 0.0f;
-  const Sampler* sampler = nullptr;
-  TextureFootprint f;
-  for (int k = 0; k < count; ++k) {
-    const Image& image = *lookups[k].image;
-    const int w = image.mips.empty() ? 0 : image.mips[0].width;
-    const int h = image.mips.empty() ? 0 : image.mips[0].height;
-    if (w != width || h != height) {
-      width = w;
-      height = h;
-      sampler = nullptr;
-      lambda = texture_lod(image, duv_dx, duv_dy);
-    }
-    if (lookups[k].sampler != sampler) {
-      sampler = lookups[k].sampler;
-      compute_footprint(f, image, *sampler, uv, lambda);
-    }
-    out[k] = filter_footprint(image, f);
-  }
+  // One point of the batch path: out[k * 1 + 0] is lookup k's texel.
+  const TexturePoints point{1, &uv.x, &uv.y, &duv_dx.x, &duv_dx.y, &duv_dy.x, &duv_dy.y};
+  sample_textures(lookups, count, point, out);
 }
 
 void sample_textures(const TextureLookup* lookups, int count, const TexturePoints& points, glm::vec4* out) {
