@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <bit>
-#include <cmath>
 #include <limits>
+#include <stdexcept>
 
 #include "engine/core/srgb.h"
 #include "engine/shading/tonemap.h"
@@ -15,61 +15,74 @@ namespace {
 // The reference definition: one channel of resolve_pixel for an exposed value.
 uint8_t code_of_exposed(float e) { return quantize_unorm8(linear_to_srgb(tonemap_aces(e))); }
 
-// Buckets cover exposed values in [2^-24, 2^5) (below: code 0 for any sane
-// tonemap, checked at construction; above: the tonemap's shoulder is past 1)
-// with 10 mantissa bits each, so a bucket rarely spans more than one code.
-constexpr int kBucketShift = 13;
-constexpr uint32_t kLowBits = uint32_t(127 - 24) << 23;  // bit pattern of 2^-24
-constexpr uint32_t kHighBits = uint32_t(127 + 5) << 23;  // bit pattern of 2^5
+// Buckets of 2^16 floats (7 mantissa bits): each holds at most one of the
+// codes' thresholds (checked at construction; at 2^18 some hold two), and the
+// ~1700 buckets between code 1 and code 255 take 7 KB, so the table stays in L1.
+constexpr int kBucketShift = 16;
+constexpr int32_t kBucketWidth = int32_t(1) << kBucketShift;
+constexpr int32_t kInfinityBits = 0x7f800000;
+
+// Code of exposed float bits, with the bucket table `bucket` starting at
+// `low_bits`. Negative floats (also -NaN) are negative as int32 and clamp to
+// code 0; +NaN's bits lie above +infinity's and are sent to 0 as well, like
+// the definition does.
+inline int code_of_bits(int32_t bits, int32_t low_bits, int32_t high_bits, const uint32_t* bucket) {
+  bits = bits > kInfinityBits ? 0 : bits;
+  const int32_t offset = std::min(std::max(bits, low_bits), high_bits) - low_bits;
+  const uint32_t entry = bucket[offset >> kBucketShift];
+  const int32_t step_at = int32_t(entry & 0xffffff);
+  return int(entry >> 24) + ((offset & (kBucketWidth - 1)) >= step_at ? 1 : 0);
+}
+
+// encode() of `n` floats. The restrict parameters tell GCC that the byte
+// stores alias neither the input nor the table, so the loop vectorises.
+void encode_floats(const float* __restrict radiance, size_t n, float exposure, int32_t low_bits, int32_t high_bits,
+                   const uint32_t* __restrict bucket, uint8_t* __restrict out) {
+  for (size_t i = 0; i < n; ++i)
+    out[i] = uint8_t(code_of_bits(std::bit_cast<int32_t>(radiance[i] * exposure), low_bits, high_bits, bucket));
+}
 
 }  // namespace
 
 DisplayTransform::DisplayTransform(float ev100) : ev100_(ev100), exposure_(exposure_scale(ev100)) {
-  // Thresholds by bisection over the ordered bit patterns of non-negative floats.
-  threshold_.fill(std::numeric_limits<float>::infinity());
-  threshold_[0] = 0.0f;
-  const uint32_t top = std::bit_cast<uint32_t>(std::numeric_limits<float>::max());
+  // Thresholds by bisection over the ordered bit patterns of non-negative
+  // floats: threshold[k] = bits of the smallest exposed value with code >= k.
+  std::vector<int32_t> threshold(256);
+  const int32_t top = std::bit_cast<int32_t>(std::numeric_limits<float>::max());
+  if (code_of_exposed(std::bit_cast<float>(top)) != 255) throw std::logic_error("display transform never reaches 255");
   for (int k = 1; k <= 255; ++k) {
-    uint32_t lo = 0, hi = top;  // invariant: code(lo) < k <= code(hi) (if any value reaches k)
-    if (code_of_exposed(std::bit_cast<float>(hi)) < k) continue;
+    int32_t lo = 0, hi = top;  // invariant: code(lo) < k <= code(hi)
     while (hi - lo > 1) {
-      const uint32_t mid = lo + (hi - lo) / 2;
+      const int32_t mid = lo + (hi - lo) / 2;
       (code_of_exposed(std::bit_cast<float>(mid)) >= k ? hi : lo) = mid;
     }
-    threshold_[k] = std::bit_cast<float>(hi);
+    threshold[k] = hi;
   }
-  threshold_[256] = std::numeric_limits<float>::infinity();
-  bucket_code_.resize(size_t((kHighBits - kLowBits) >> kBucketShift) + 1);
-  for (size_t b = 0; b < bucket_code_.size(); ++b) {
-    const float start = std::bit_cast<float>(kLowBits + uint32_t(b << kBucketShift));
-    int code = 0;
-    while (code < 255 && !(start < threshold_[code + 1])) ++code;
-    bucket_code_[b] = uint8_t(code);
-    // Codes the bucket's values can climb past its start's; the last bucket
-    // takes every value above its start.
-    const bool last = b + 1 == bucket_code_.size();
-    const float end = last ? std::numeric_limits<float>::infinity()
-                           : std::bit_cast<float>(kLowBits + uint32_t((b + 1) << kBucketShift));
-    int steps = 0;
-    while (code + steps < 255 && threshold_[code + steps + 1] < end) ++steps;
-    bucket_steps_ = std::max(bucket_steps_, steps);
+  // The first bucket starts below threshold 1 so that clamped values get 0.
+  low_bits_ = ((threshold[1] - 1) >> kBucketShift) << kBucketShift;
+  high_bits_ = threshold[255];
+  bucket_.resize(size_t((high_bits_ - low_bits_) >> kBucketShift) + 1);
+  int code = 0;
+  for (size_t b = 0; b < bucket_.size(); ++b) {
+    const int32_t start = low_bits_ + int32_t(b) * kBucketWidth;
+    while (code < 255 && threshold[code + 1] <= start) ++code;
+    int32_t step_at = kBucketWidth;
+    if (code < 255 && threshold[code + 1] < start + kBucketWidth) {
+      step_at = threshold[code + 1] - start;
+      if (code + 1 < 255 && threshold[code + 2] < start + kBucketWidth)
+        throw std::logic_error("display transform: two code steps in one bucket; lower kBucketShift");
+    }
+    bucket_[b] = uint32_t(code) << 24 | uint32_t(step_at);
   }
 }
 
 uint8_t DisplayTransform::encode(float radiance) const {
-  const float e = radiance * exposure_;
-  if (!(e > 0.0f)) return code_of_exposed(e);  // zero, negative and NaN
-  if (!(e < std::numeric_limits<float>::infinity())) return code_of_exposed(e);
-  const uint32_t bits = std::min(std::max(std::bit_cast<uint32_t>(e), kLowBits), kHighBits);
-  int code = bucket_code_[(bits - kLowBits) >> kBucketShift];
-  // threshold_[256] is infinite: the code stops at 255.
-  for (int s = 0; s < bucket_steps_; ++s) code += e >= threshold_[code + 1] ? 1 : 0;
-  return uint8_t(code);
+  return uint8_t(code_of_bits(std::bit_cast<int32_t>(radiance * exposure_), low_bits_, high_bits_, bucket_.data()));
 }
 
 void DisplayTransform::resolve(const glm::vec3* hdr, size_t count, uint8_t* rgb_out) const {
-  for (size_t i = 0; i < count; ++i)
-    for (int c = 0; c < 3; ++c) rgb_out[3 * i + c] = encode(hdr[i][c]);
+  static_assert(sizeof(glm::vec3) == 3 * sizeof(float));
+  encode_floats(reinterpret_cast<const float*>(hdr), 3 * count, exposure_, low_bits_, high_bits_, bucket_.data(), rgb_out);
 }
 
 }  // namespace cr

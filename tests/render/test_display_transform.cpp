@@ -2,9 +2,12 @@
 #include <doctest/doctest.h>
 
 #include <bit>
+#include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <random>
+#include <vector>
 
 #include "engine/render/display_transform.h"
 #include "engine/shading/tonemap.h"
@@ -57,4 +60,48 @@ TEST_CASE("display transform codes are monotone in radiance") {
     last = c;
   }
   CHECK(last == 255);
+}
+
+TEST_CASE("display transform resolve() of a pixel row equals encode() at every code step") {
+  // resolve() is a vectorised loop over the channels as flat floats: check it
+  // against the scalar encode() (checked against resolve_pixel above) on
+  // radiances right at and next to each step of the code (found by bisection
+  // on the definition), a sweep past both ends of the table and the special
+  // values, in a row whose length leaves a tail after the vector loop.
+  const float ev = 10.0f;
+  cr::DisplayTransform t(ev);
+  const float exposure = cr::exposure_scale(ev);
+  auto reference = [&](float radiance) {
+    uint8_t rgb[3];
+    cr::resolve_pixel(glm::vec3(radiance), exposure, rgb);
+    return int(rgb[0]);
+  };
+  std::vector<float> values = {0.0f, -0.0f, -1.0f, std::numeric_limits<float>::infinity(),
+                               -std::numeric_limits<float>::infinity(), std::numeric_limits<float>::quiet_NaN(),
+                               -std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::denorm_min(),
+                               std::numeric_limits<float>::max(), -std::numeric_limits<float>::max()};
+  const uint32_t first = std::bit_cast<uint32_t>(std::ldexp(1.0f, -26) / exposure);
+  const uint32_t last = std::bit_cast<uint32_t>(std::ldexp(1.0f, 7) / exposure);
+  const uint32_t stride = 997;
+  int steps = 0;
+  for (uint32_t bits = first; bits < last; bits += stride) {
+    values.push_back(std::bit_cast<float>(bits));
+    if (reference(std::bit_cast<float>(bits)) == reference(std::bit_cast<float>(bits + stride))) continue;
+    uint32_t lo = bits, hi = bits + stride;  // code(lo) < code(hi): find the first bits with code(hi)
+    while (hi - lo > 1) {
+      const uint32_t mid = lo + (hi - lo) / 2;
+      (reference(std::bit_cast<float>(mid)) > reference(std::bit_cast<float>(lo)) ? hi : lo) = mid;
+    }
+    for (uint32_t b : {hi - 1, hi, hi + 1}) values.push_back(std::bit_cast<float>(b));
+    ++steps;
+  }
+  CHECK(steps == 255);
+  while (values.size() % 3 != 0 || values.size() % 32 == 0) values.push_back(1.0f);
+  const size_t count = values.size() / 3;
+  std::vector<glm::vec3> hdr(count);
+  std::memcpy(hdr.data(), values.data(), values.size() * sizeof(float));
+  std::vector<uint8_t> out(3 * count + 1, 0xab);  // one guard byte
+  t.resolve(hdr.data(), count, out.data());
+  for (size_t i = 0; i < values.size(); ++i) REQUIRE(int(out[i]) == int(t.encode(values[i])));
+  CHECK(out[3 * count] == 0xab);
 }
