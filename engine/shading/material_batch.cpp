@@ -1,5 +1,6 @@
 #include "engine/shading/material_batch.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "engine/shading/material_eval.h"
@@ -45,6 +46,82 @@ struct TangentNormals {
   }
 }
 
+// evaluate_material_factors over the points [begin, end) of one material,
+// lookup k's texel of point i at texels[k * n + i - begin]: field by field,
+// each a loop that vectorises (restrict: the batches and texels are
+// distinct; a slot without a texture reads 1, and factor * 1 is the factor,
+// so such loops drop the texel). The same floats as point by point.
+[[gnu::noinline]] void run_factors(const Material& material, const MaterialTextures& textures,
+                                   const glm::vec4* __restrict texels, int begin, int end,
+                                   const SurfaceBatch& __restrict s, TangentNormals& __restrict t,
+                                   ShadingBatch& __restrict b) {
+  using enum MaterialTextures::Slot;
+  const int n = end - begin;
+  auto slot = [&](MaterialTextures::Slot k) -> const glm::vec4* {
+    return textures.lookup_of[k] >= 0 ? texels + textures.lookup_of[k] * n - begin : nullptr;
+  };
+  auto saturate = [](float x) { return x > 0.0f ? (x < 1.0f ? x : 1.0f) : 0.0f; };
+
+  const glm::vec4 f = material.base_color_factor;
+  const bool blend = material.alpha_mode == AlphaMode::Blend;
+  if (const glm::vec4* tex = slot(kBaseColor)) {
+    for (int i = begin; i < end; ++i) {
+      const float r = f.r * tex[i].r * s.cr[i], g = f.g * tex[i].g * s.cg[i], bl = f.b * tex[i].b * s.cb[i];
+      b.base_r[i] = std::max(r, 0.0f);
+      b.base_g[i] = std::max(g, 0.0f);
+      b.base_b[i] = std::max(bl, 0.0f);
+      b.alpha[i] = blend ? saturate(f.a * tex[i].a * s.ca[i]) : 1.0f;
+    }
+  } else {
+    for (int i = begin; i < end; ++i) {
+      b.base_r[i] = std::max(f.r * s.cr[i], 0.0f);
+      b.base_g[i] = std::max(f.g * s.cg[i], 0.0f);
+      b.base_b[i] = std::max(f.b * s.cb[i], 0.0f);
+      b.alpha[i] = blend ? saturate(f.a * s.ca[i]) : 1.0f;
+    }
+  }
+
+  const float roughness = material.roughness_factor, metallic = material.metallic_factor;
+  if (const glm::vec4* tex = slot(kMetallicRoughness)) {
+    for (int i = begin; i < end; ++i) {
+      b.roughness[i] = saturate(roughness * tex[i].g);
+      b.metallic[i] = saturate(metallic * tex[i].b);
+    }
+  } else {
+    for (int i = begin; i < end; ++i) {
+      b.roughness[i] = saturate(roughness);
+      b.metallic[i] = saturate(metallic);
+    }
+  }
+
+  // glTF: RGB in [0,1] -> [-1,1], XY scaled by normalTexture.scale.
+  const glm::vec4* normal = slot(kNormal);
+  const float scale = material.normal.scale;
+  const bool mapped = material.normal.valid();
+  for (int i = begin; i < end; ++i) {
+    const glm::vec4 texel = normal ? normal[i] : glm::vec4(1.0f);
+    t.x[i] = mapped ? (texel.x * 2.0f - 1.0f) * scale : 0.0f;
+    t.y[i] = mapped ? (texel.y * 2.0f - 1.0f) * scale : 0.0f;
+    t.z[i] = mapped ? texel.z * 2.0f - 1.0f : 0.0f;
+    t.mapped[i] = mapped ? 1.0f : 0.0f;
+  }
+
+  const glm::vec4* occlusion = slot(kOcclusion);
+  const float strength = saturate(material.occlusion.scale);
+  for (int i = begin; i < end; ++i)
+    b.occlusion[i] = material.occlusion.valid() ? 1.0f + strength * ((occlusion ? occlusion[i].r : 1.0f) - 1.0f) : 1.0f;
+
+  const glm::vec3 e = material.emissive_factor;
+  const bool emits = e != glm::vec3(0.0f);
+  const glm::vec4* emissive = slot(kEmissive);
+  for (int i = begin; i < end; ++i) {
+    const glm::vec4 texel = emissive ? emissive[i] : glm::vec4(1.0f);
+    b.emissive_r[i] = emits ? e.r * texel.r * kEmissiveNits : 0.0f;
+    b.emissive_g[i] = emits ? e.g * texel.g * kEmissiveNits : 0.0f;
+    b.emissive_b[i] = emits ? e.b * texel.b * kEmissiveNits : 0.0f;
+  }
+}
+
 }  // namespace
 
 void evaluate_materials(const Scene& scene, const SurfaceBatch& surfaces, const Material* const* materials,
@@ -52,46 +129,26 @@ void evaluate_materials(const Scene& scene, const SurfaceBatch& surfaces, const 
   TangentNormals normals;
   bool any_mapped = false;
   batch.count = surfaces.count;
-  // Runs of points share a material: its textures are set up once a run and
-  // looked up for the whole run together.
-  MaterialTextures textures;
-  glm::vec4 texels[MaterialTextures::kSlots * ShadingBatch::kCapacity];
-  int run_begin = 0, run_end = 0;
   for (int i = 0; i < surfaces.count; ++i) {
-    const Material& material = *materials[i];
-    if (i == run_end) {
-      run_begin = i;
-      run_end = i + 1;
-      while (run_end < surfaces.count && materials[run_end] == &material) ++run_end;
-      textures = MaterialTextures(scene, material);
-      const TexturePoints points{run_end - run_begin,  surfaces.u + i,     surfaces.v + i,    surfaces.du_dx + i,
-                                 surfaces.dv_dx + i, surfaces.du_dy + i, surfaces.dv_dy + i};
-      sample_textures(textures.lookups, textures.count, points, texels);
-    }
-    MaterialSample m;
-    glm::vec3 tangent_normal(0.0f);
-    evaluate_material_factors(material, textures, texels + (i - run_begin), run_end - run_begin,
-                              {surfaces.cr[i], surfaces.cg[i], surfaces.cb[i], surfaces.ca[i]}, m, tangent_normal);
-    const bool mapped = material.normal.valid();
-    any_mapped |= mapped;
-    normals.x[i] = tangent_normal.x;
-    normals.y[i] = tangent_normal.y;
-    normals.z[i] = tangent_normal.z;
-    normals.mapped[i] = mapped ? 1.0f : 0.0f;
     batch.position[i] = {surfaces.px[i], surfaces.py[i], surfaces.pz[i]};
     batch.gx[i] = batch.nx[i] = surfaces.nx[i];
     batch.gy[i] = batch.ny[i] = surfaces.ny[i];
     batch.gz[i] = batch.nz[i] = surfaces.nz[i];
-    batch.base_r[i] = m.base_color.r;
-    batch.base_g[i] = m.base_color.g;
-    batch.base_b[i] = m.base_color.b;
-    batch.metallic[i] = m.metallic;
-    batch.roughness[i] = m.roughness;
-    batch.occlusion[i] = m.occlusion;
-    batch.emissive_r[i] = m.emissive.r;
-    batch.emissive_g[i] = m.emissive.g;
-    batch.emissive_b[i] = m.emissive.b;
-    batch.alpha[i] = material.alpha_mode == AlphaMode::Blend ? m.alpha : 1.0f;
+  }
+  // Runs of points share a material: its textures are set up once a run,
+  // looked up for the whole run together, and its factors applied run-wide.
+  glm::vec4 texels[MaterialTextures::kSlots * ShadingBatch::kCapacity];
+  for (int begin = 0, end = 0; begin < surfaces.count; begin = end) {
+    const Material& material = *materials[begin];
+    end = begin + 1;
+    while (end < surfaces.count && materials[end] == &material) ++end;
+    const MaterialTextures textures(scene, material);
+    const TexturePoints points{end - begin,           surfaces.u + begin,     surfaces.v + begin,
+                               surfaces.du_dx + begin, surfaces.dv_dx + begin, surfaces.du_dy + begin,
+                               surfaces.dv_dy + begin};
+    sample_textures(textures.lookups, textures.count, points, texels);
+    run_factors(material, textures, texels, begin, end, surfaces, normals, batch);
+    any_mapped |= material.normal.valid();
   }
   if (any_mapped) apply_normal_maps(surfaces, normals, batch);
 }

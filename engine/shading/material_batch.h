@@ -1,7 +1,8 @@
 #pragma once
-// Materials evaluated over a batch of surface points: the texture lookups
-// and factors point by point, the normal maps batch-wide in one vectorised
-// loop (its square root and divides four points at a time).
+// Materials evaluated over a batch of surface points: per run of points
+// sharing a material, its texture lookups together and its factors in
+// vectorised loops field by field; the normal maps batch-wide in one
+// vectorised loop.
 #include "engine/scene/scene.h"
 #include "engine/shading/shading_batch.h"
 #include "engine/shading/surface_batch.h"
