@@ -1,11 +1,15 @@
 #include "engine/shading/texture_sampler.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstring>
 #include <limits>
+#include <optional>
 
 #include "engine/scene/image_texels.h"
 #include "engine/shading/small_floor.h"
+#include "engine/shading/trilinear_footprints.h"
 
 namespace cr {
 namespace {
@@ -84,6 +88,37 @@ inline float reduce_coordinate(float u, Wrap wrap) {
   f.texel[3] = y1 + x1;
 }
 
+// The texels of two images at one index side by side (one AVX register), so
+// that the lookups of two images through one footprint blend together.
+// Without AVX (x86-64-v2 builds) GCC warns that passing these changes the
+// ABI: they never cross a call boundary (internal, inlined), so it does not
+// matter. (GCC reports it at the end of the file, so it stays off to there.)
+#pragma GCC diagnostic ignored "-Wpsabi"
+typedef float TexelPair __attribute__((vector_size(32)));
+typedef float Texel __attribute__((vector_size(16)));
+
+inline TexelPair texel_pair(const glm::vec4& a, const glm::vec4& b) {
+  Texel x, y;
+  std::memcpy(&x, &a, sizeof x);
+  std::memcpy(&y, &b, sizeof y);
+  return __builtin_shufflevector(x, y, 0, 1, 2, 3, 4, 5, 6, 7);
+}
+
+// glm::mix, lane by lane the same arithmetic for a pair: x * (1 - t) + y * t.
+inline glm::vec4 blend(const glm::vec4& x, const glm::vec4& y, float t) { return glm::mix(x, y, t); }
+inline TexelPair blend(const TexelPair& x, const TexelPair& y, float t) { return x * (1.0f - t) + y * t; }
+
+// The bilinear blend of the four texels (x0,y0) (x1,y0) (x0,y1) (x1,y1) of
+// a level, read by `texel` (index -> linear RGBA, or a pair of them): every
+// filtered lookup's.
+template <class TexelAt>
+[[gnu::always_inline]] inline auto bilinear(const TexelAt& texel, uint32_t t0, uint32_t t1, uint32_t t2, uint32_t t3,
+                                            float ax, float ay) {
+  const auto top = blend(texel(t0), texel(t1), ax);
+  const auto bottom = blend(texel(t2), texel(t3), ax);
+  return blend(top, bottom, ay);
+}
+
 // Always inlined: a glm::vec4 returned by value is split across two registers
 // through the stack, and the reload stalls on the store.
 // Levels without decoded floats (over the load budget) decode their four
@@ -92,14 +127,12 @@ inline float reduce_coordinate(float u, Wrap wrap) {
   const MipLevel& m = image.mips[size_t(f.index)];
   if (!m.texels.empty()) {
     const glm::vec4* texels = m.texels.data();
-    const glm::vec4 top = glm::mix(texels[f.texel[0]], texels[f.texel[1]], f.ax);
-    const glm::vec4 bottom = glm::mix(texels[f.texel[2]], texels[f.texel[3]], f.ax);
-    return glm::mix(top, bottom, f.ay);
+    return bilinear([texels](uint32_t i) { return texels[i]; }, f.texel[0], f.texel[1], f.texel[2], f.texel[3],
+                    f.ax, f.ay);
   }
   const TexelDecoder decode(image);
-  const glm::vec4 top = glm::mix(decode(m, f.texel[0]), decode(m, f.texel[1]), f.ax);
-  const glm::vec4 bottom = glm::mix(decode(m, f.texel[2]), decode(m, f.texel[3]), f.ax);
-  return glm::mix(top, bottom, f.ay);
+  return bilinear([&](uint32_t i) { return decode(m, i); }, f.texel[0], f.texel[1], f.texel[2], f.texel[3], f.ax,
+                  f.ay);
 }
 
 // texture_footprint written into `f` (which the caller may re-use): a
@@ -174,6 +207,62 @@ void texture_lods(const Image& image, const TexturePoints& p, float* lambda) {
     lambda[i] = rho[i] > 0.0f ? std::log2(rho[i]) : -std::numeric_limits<float>::infinity();
 }
 
+// filter_footprint at every point of trilinear footprints, texels read by
+// `texel(level, index)` and results given to `store(point, value)`: the
+// same blends in the same order.
+template <class TexelAt, class Store>
+[[gnu::always_inline]] inline void filter_trilinear(const TexelAt& texel, const TrilinearFootprints& f, int n,
+                                                    const Store& store) {
+  for (int i = 0; i < n; ++i) {
+    auto level = [&](int s) __attribute__((always_inline)) {
+      const int l = f.level[s][i];
+      return bilinear([&](uint32_t j) { return texel(l, j); }, f.texel[s][0][i], f.texel[s][1][i], f.texel[s][2][i],
+                      f.texel[s][3][i], f.ax[s][i], f.ay[s][i]);
+    };
+    const auto a = level(0);
+    if (f.t[i] == 0.0f) {
+      store(i, a);
+    } else {
+      store(i, blend(a, level(1), f.t[i]));
+    }
+  }
+}
+
+// Whether every level of the image has decoded texels; `texels` gets them.
+bool decoded_levels(const Image& image, const glm::vec4** texels) {
+  bool decoded = true;
+  for (size_t l = 0; l < image.mips.size(); ++l) {
+    texels[l] = image.mips[l].texels.data();
+    decoded = decoded && !image.mips[l].texels.empty();
+  }
+  return decoded;
+}
+
+// filter_trilinear of one image with levels, through its decoded texels
+// when every level has them, else by table (the same floats).
+void sample_trilinear(const Image& image, const TrilinearFootprints& f, int n, glm::vec4* out) {
+  auto store = [out](int i, const glm::vec4& value) { out[i] = value; };
+  const glm::vec4* texels[TrilinearFootprints::kMaxLevels];
+  if (decoded_levels(image, texels)) {
+    filter_trilinear([&](int l, uint32_t i) { return texels[l][i]; }, f, n, store);
+    return;
+  }
+  const TexelDecoder decode(image);
+  filter_trilinear([&](int l, uint32_t i) { return decode(image.mips[size_t(l)], i); }, f, n, store);
+}
+
+// sample_trilinear of two images of one chain size at once, from their
+// decoded texels: the footprint is read once, and one AVX blend does both.
+void sample_trilinear_pair(const glm::vec4* const* texels_a, const glm::vec4* const* texels_b,
+                           const TrilinearFootprints& f, int n, glm::vec4* out_a, glm::vec4* out_b) {
+  filter_trilinear([&](int l, uint32_t i) { return texel_pair(texels_a[l][i], texels_b[l][i]); }, f, n,
+                   [&](int i, const TexelPair& value) {
+                     std::memcpy(&out_a[i], &value, sizeof(glm::vec4));
+                     std::memcpy(&out_b[i], reinterpret_cast<const char*>(&value) + sizeof(glm::vec4),
+                                 sizeof(glm::vec4));
+                   });
+}
+
 }  // namespace
 
 float texture_lod(const Image& image, glm::vec2 duv_dx, glm::vec2 duv_dy) {
@@ -231,8 +320,11 @@ void sample_textures(const TextureLookup* lookups, int count, const TexturePoint
   const int n = points.count;
   int width = -1, height = -1;
   const Sampler* sampler = nullptr;
+  bool trilinear = false;
   float lambda[TexturePoints::kCapacity];
-  TextureFootprint f[TexturePoints::kCapacity];
+  TrilinearFootprints common;
+  // Built only for other samplers: zeroing 64 footprints showed in profiles.
+  std::optional<std::array<TextureFootprint, TexturePoints::kCapacity>> general;
   for (int k = 0; k < count; ++k) {
     const Image& image = *lookups[k].image;
     glm::vec4* texel = out + size_t(k) * size_t(n);
@@ -248,9 +340,31 @@ void sample_textures(const TextureLookup* lookups, int count, const TexturePoint
     }
     if (lookups[k].sampler != sampler) {
       sampler = lookups[k].sampler;
-      for (int i = 0; i < n; ++i) compute_footprint(f[i], image, *sampler, {points.u[i], points.v[i]}, lambda[i]);
+      trilinear = takes_trilinear_footprints(image, *sampler);
+      if (trilinear) {
+        trilinear_footprints(image, *sampler, points.u, points.v, lambda, n, common);
+      } else {
+        if (!general) general.emplace();
+        for (int i = 0; i < n; ++i)
+          compute_footprint((*general)[size_t(i)], image, *sampler, {points.u[i], points.v[i]}, lambda[i]);
+      }
     }
-    for (int i = 0; i < n; ++i) texel[i] = filter_footprint(image, f[i]);
+    if (trilinear) {
+      // The next lookup through the same footprint joins this one when both
+      // have decoded texels (a material's base colour and metallic-roughness).
+      const glm::vec4* texels[TrilinearFootprints::kMaxLevels];
+      const glm::vec4* next_texels[TrilinearFootprints::kMaxLevels];
+      const Image* next = k + 1 < count && lookups[k + 1].sampler == sampler ? lookups[k + 1].image : nullptr;
+      if (next && next->mips.size() == image.mips.size() && next->mips[0].width == width &&
+          next->mips[0].height == height && decoded_levels(image, texels) && decoded_levels(*next, next_texels)) {
+        sample_trilinear_pair(texels, next_texels, common, n, texel, texel + n);
+        ++k;
+      } else {
+        sample_trilinear(image, common, n, texel);
+      }
+    } else {
+      for (int i = 0; i < n; ++i) texel[i] = filter_footprint(image, (*general)[size_t(i)]);
+    }
   }
 }
 
