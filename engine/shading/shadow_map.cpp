@@ -26,6 +26,8 @@
 #include <cmath>
 #include <cstring>
 
+#include <xmmintrin.h>
+
 #include "engine/shading/small_floor.h"
 
 namespace cr {
@@ -54,25 +56,37 @@ LightBasis light_basis(const glm::vec3& direction_to_sun) {
   return b;
 }
 
-// Taps of the n x n block at (x0, y0) whose depth is at most `receiver`,
-// four at a time (one compare per row for the default 3x3 PCF's 4x4 block).
-int count_lit_taps(const float* depth, int size, int x0, int y0, int n, float receiver) {
+// How the taps of the n x n block at (x0, y0) compare with `receiver`: lit
+// where the depth is at most the receiver's. Four at a time (one compare per
+// row for the default 3x3 PCF's 4x4 block), the lanes only ANDed and ORed.
+enum class TapAgreement { AllLit, AllShadowed, Mixed };
+[[gnu::always_inline]] inline TapAgreement compare_taps(const float* depth, int size, int x0, int y0, int n,
+                                                        float receiver) {
   using float4 = float __attribute__((vector_size(16)));
   using int4 = int __attribute__((vector_size(16)));
   const float4 bound = {receiver, receiver, receiver, receiver};
-  int4 lit_lanes = {0, 0, 0, 0};
-  int lit = 0;
+  int4 lit_everywhere = {-1, -1, -1, -1};  // per lane: every tap so far lit
+  int4 lit_somewhere = {0, 0, 0, 0};       // per lane: some tap so far lit
+  bool tail_all_lit = true, tail_any_lit = false;
   for (int y = y0; y < y0 + n; ++y) {
     const float* row = depth + size_t(y) * size_t(size) + size_t(x0);
     int x = 0;
     for (; x + 4 <= n; x += 4) {
       float4 taps;
       std::memcpy(&taps, row + x, sizeof(taps));
-      lit_lanes -= taps <= bound;  // true lanes are -1
+      const int4 lit = taps <= bound;  // true lanes are -1
+      lit_everywhere &= lit;
+      lit_somewhere |= lit;
     }
-    for (; x < n; ++x) lit += row[x] <= receiver ? 1 : 0;
+    for (; x < n; ++x) {
+      const bool lit = row[x] <= receiver;
+      tail_all_lit &= lit;
+      tail_any_lit |= lit;
+    }
   }
-  return lit + lit_lanes[0] + lit_lanes[1] + lit_lanes[2] + lit_lanes[3];
+  if (tail_all_lit && _mm_movemask_ps(__m128(lit_everywhere)) == 0xF) return TapAgreement::AllLit;
+  if (!tail_any_lit && _mm_movemask_ps(__m128(lit_somewhere)) == 0) return TapAgreement::AllShadowed;
+  return TapAgreement::Mixed;
 }
 
 }  // namespace
@@ -184,29 +198,15 @@ struct LookupConstants {
   return std::abs(cx) <= 1.0f && std::abs(cy) <= 1.0f && cz >= 0.0f && cz <= 1.0f;
 }
 
-// The PCF filter around texel coordinates (tx, ty) inside the map.
-float filter_taps(const ShadowMap& m, float tx, float ty, float receiver) {
+// The PCF filter's weighted sum over the taps around texel (x0, y0), (ax, ay)
+// the point's offset from it: a (2r+1)-texel box filter centred on the point,
+// taps weighted by their overlap with it. The edge rows and columns get the
+// bilinear fractions, so visibility varies continuously as the point moves.
+// Out of line: only penumbra and border points get here.
+[[gnu::noinline]] float weighted_taps(const ShadowMap& m, int x0, int y0, float ax, float ay, float receiver) {
   const int r = std::max(m.pcf_radius, 0);
   const int size = m.size;
   const std::vector<float>& depth = m.depth;
-  // A (2r+1)-texel box filter centred on the point, taps weighted by their
-  // overlap with it: the edge rows and columns get the bilinear fractions, so
-  // visibility varies continuously as the point moves.
-  // |clip.x|, |clip.y| <= 1: small, finite texel coordinates.
-  const int x0 = floor_to_int(tx);
-  const int y0 = floor_to_int(ty);
-  const float ax = tx - float(x0);
-  const float ay = ty - float(y0);
-  // Taps wholly inside the map (nearly every point) need no border test, and
-  // where all of them agree (all but the penumbra) the weights do not matter:
-  // the weighted sums below would come out exactly 1 or 0.
-  if (x0 - r >= 0 && y0 - r >= 0 && x0 + r + 1 < size && y0 + r + 1 < size) {
-    const int lit_taps = count_lit_taps(depth.data(), size, x0 - r, y0 - r, 2 * r + 2, receiver);
-    if (lit_taps == (2 * r + 2) * (2 * r + 2)) return 1.0f;
-    // All shadowed: the weights are products of per-axis weights >= 0 that
-    // sum to at least 1 per axis, so the shadowed sum is positive, lit zero.
-    if (lit_taps == 0) return 0.0f;
-  }
   float lit = 0.0f;
   float shadowed = 0.0f;
   for (int dy = -r; dy <= r + 1; ++dy) {
@@ -229,6 +229,30 @@ float filter_taps(const ShadowMap& m, float tx, float ty, float receiver) {
   if (!(shadowed > 0.0f)) return 1.0f;
   if (!(lit > 0.0f)) return 0.0f;
   return lit / (lit + shadowed);
+}
+
+// The PCF filter around texel coordinates (tx, ty) inside the map. Inlined
+// into the lookup loops: most points end at the all-lit/all-shadowed test.
+[[gnu::always_inline]] inline float filter_taps(const ShadowMap& m, float tx, float ty, float receiver) {
+  const int r = std::max(m.pcf_radius, 0);
+  const int size = m.size;
+  // |clip.x|, |clip.y| <= 1: small, finite texel coordinates.
+  const int x0 = floor_to_int(tx);
+  const int y0 = floor_to_int(ty);
+  // Taps wholly inside the map (nearly every point) need no border test, and
+  // where all of them agree (all but the penumbra) the weights do not matter:
+  // the weighted sums would come out exactly 1 or 0.
+  if (x0 - r >= 0 && y0 - r >= 0 && x0 + r + 1 < size && y0 + r + 1 < size) {
+    // The default 3x3 PCF's 4x4 block gets the loop unrolled for it.
+    const int n = 2 * r + 2;
+    const TapAgreement taps = n == 4 ? compare_taps(m.depth.data(), size, x0 - r, y0 - r, 4, receiver)
+                                     : compare_taps(m.depth.data(), size, x0 - r, y0 - r, n, receiver);
+    if (taps == TapAgreement::AllLit) return 1.0f;
+    // All shadowed: the weights are products of per-axis weights >= 0 that
+    // sum to at least 1 per axis, so the shadowed sum is positive, lit zero.
+    if (taps == TapAgreement::AllShadowed) return 0.0f;
+  }
+  return weighted_taps(m, x0, y0, tx - float(x0), ty - float(y0), receiver);
 }
 
 }  // namespace

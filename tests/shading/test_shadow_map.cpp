@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <functional>
 #include <optional>
+#include <vector>
 
 #include "engine/shading/shadow_map.h"
 
@@ -303,4 +305,99 @@ TEST_CASE("shadow: the batched lookup returns each point's own visibility, bit f
   float v = 0.0f;
   ShadowMap{}.visibility(one, &v);
   CHECK(v == 1.0f);
+}
+
+namespace {
+
+// ShadowMap::visibility as shadow_map.cpp defines it, written out plainly: the
+// biased receiver projected with glm, then the PCF weighted sum over every
+// tap (no all-lit/all-shadowed shortcut, no row-wise compares).
+// `footprint_crosses_border` tells whether some tap lies off the map.
+float reference_visibility(const ShadowMap& map, const glm::vec3& p, const glm::vec3& normal,
+                           bool& footprint_crosses_border) {
+  footprint_crosses_border = false;
+  const int r = map.pcf_radius;
+  const float cos_theta = std::clamp(glm::dot(normal, map.direction_to_sun), -1.0f, 1.0f);
+  const float sin_theta = std::sqrt(std::max(0.0f, 1.0f - cos_theta * cos_theta));
+  const float offset = 1.5f * float(r + 1) * map.texel_world_size * sin_theta;
+  const glm::vec3 rel(float(double(p.x) - map.origin.x + double(normal.x * offset)),
+                      float(double(p.y) - map.origin.y + double(normal.y * offset)),
+                      float(double(p.z) - map.origin.z + double(normal.z * offset)));
+  const glm::vec4 clip = map.light_view_proj * glm::vec4(rel, 1.0f);
+  if (!(std::abs(clip.x) <= 1.0f && std::abs(clip.y) <= 1.0f && clip.z >= 0.0f && clip.z <= 1.0f)) return 1.0f;
+  const float receiver = clip.z + 0.5f * map.texel_world_size / map.depth_range + 1.0f / float(1 << 20);
+  const float tx = (clip.x * 0.5f + 0.5f) * float(map.size) - 0.5f;
+  const float ty = (0.5f - clip.y * 0.5f) * float(map.size) - 0.5f;
+  const int x0 = int(std::floor(tx)), y0 = int(std::floor(ty));
+  const float ax = tx - float(x0), ay = ty - float(y0);
+  float lit = 0.0f, shadowed = 0.0f;
+  for (int dy = -r; dy <= r + 1; ++dy) {
+    for (int dx = -r; dx <= r + 1; ++dx) {
+      const float wx = dx == -r ? 1.0f - ax : (dx == r + 1 ? ax : 1.0f);
+      const float wy = dy == -r ? 1.0f - ay : (dy == r + 1 ? ay : 1.0f);
+      const int x = x0 + dx, y = y0 + dy;
+      const bool in_map = x >= 0 && y >= 0 && x < map.size && y < map.size;
+      footprint_crosses_border |= !in_map;
+      if (!in_map || map.depth[size_t(y) * size_t(map.size) + size_t(x)] <= receiver)
+        lit += wx * wy;
+      else
+        shadowed += wx * wy;
+    }
+  }
+  if (!(shadowed > 0.0f)) return 1.0f;
+  if (!(lit > 0.0f)) return 0.0f;
+  return lit / (lit + shadowed);
+}
+
+}  // namespace
+
+TEST_CASE("shadow: visibility equals the plain PCF definition, bit for bit, at every filter radius") {
+  // A box's shadow (all-shadowed footprints), its penumbra, lit ground, tilted
+  // normals, and points over the map's border and beyond it, on a small map.
+  // Radius 1 takes the unrolled 4x4 compare, the others the general one.
+  const Camera cam = Camera::look_at({-2, 3, 6}, {-1, 0, 0}, 1.0f, 1.0f, 0.1f);
+  for (int radius : {0, 1, 2, 3}) {
+    CAPTURE(radius);
+    ShadowMap map = fit_shadow_map(cam, sun_from(30.0f, 15.0f), 12.0f, 128, radius, {-50, 0, -50}, {50, 2, 50});
+    render_depth(map, [](const glm::dvec3& o, const glm::dvec3& d) {
+      return nearest(hit_plane(o, d, glm::dvec3(0.0), glm::dvec3(0, 1, 0)),
+                     hit_box(o, d, {-1.5, 0, -1.5}, {1.5, 2, 1.5}));
+    });
+    int differing = 0, lit = 0, shadowed = 0, penumbra = 0, border = 0;
+    ShadowReceivers batch;
+    std::vector<float> expected;
+    float batched[ShadowReceivers::kCapacity];
+    int batch_differing = 0;
+    for (float x = -30.0f; x <= 30.0f; x += 0.131f) {
+      for (float z = -30.0f; z <= 30.0f; z += 0.173f) {
+        const glm::vec3 p(x, 0.0f, z);
+        const glm::vec3 n = glm::normalize(glm::vec3(0.2f * std::sin(3.0f * x), 1.0f, 0.15f * std::cos(2.0f * z)));
+        bool crosses = false;
+        const float want = reference_visibility(map, p, n, crosses);
+        const float got = map.visibility(p, n);
+        differing += std::memcmp(&got, &want, sizeof(float)) != 0;
+        lit += want == 1.0f;
+        shadowed += want == 0.0f;
+        penumbra += want > 0.0f && want < 1.0f;
+        border += crosses;
+        // The batched lookup, in batches of kCapacity points.
+        const int k = batch.count++;
+        batch.px[k] = p.x, batch.py[k] = p.y, batch.pz[k] = p.z;
+        batch.nx[k] = n.x, batch.ny[k] = n.y, batch.nz[k] = n.z;
+        expected.push_back(want);
+        if (batch.count == ShadowReceivers::kCapacity) {
+          map.visibility(batch, batched);
+          batch_differing += std::memcmp(batched, expected.data(), sizeof(batched)) != 0;
+          batch.count = 0;
+          expected.clear();
+        }
+      }
+    }
+    CHECK(differing == 0);
+    CHECK(batch_differing == 0);
+    CHECK(lit > 1000);
+    CHECK(shadowed > 100);
+    CHECK(penumbra > 100);
+    CHECK(border > 10);
+  }
 }
