@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "engine/shading/brdf.h"
 #include "engine/shading/material_eval.h"
 #include "engine/shading/safe_normalize.h"
 #include "engine/shading/texture_sampler.h"
@@ -60,7 +61,7 @@ struct TangentNormals {
   auto slot = [&](MaterialTextures::Slot k) -> const glm::vec4* {
     return textures.lookup_of[k] >= 0 ? texels + textures.lookup_of[k] * n - begin : nullptr;
   };
-  auto saturate = [](float x) { return x > 0.0f ? (x < 1.0f ? x : 1.0f) : 0.0f; };
+  auto saturate = [](float x) { return clamp_nan_safe(x, 0.0f, 1.0f); };
 
   const glm::vec4 f = material.base_color_factor;
   const bool blend = material.alpha_mode == AlphaMode::Blend;
@@ -94,22 +95,23 @@ struct TangentNormals {
     }
   }
 
+  // A slot has a texture exactly where the material's reference is valid.
   // glTF: RGB in [0,1] -> [-1,1], XY scaled by normalTexture.scale.
-  const glm::vec4* normal = slot(kNormal);
-  const float scale = material.normal.scale;
-  const bool mapped = material.normal.valid();
-  for (int i = begin; i < end; ++i) {
-    const glm::vec4 texel = normal ? normal[i] : glm::vec4(1.0f);
-    t.x[i] = mapped ? (texel.x * 2.0f - 1.0f) * scale : 0.0f;
-    t.y[i] = mapped ? (texel.y * 2.0f - 1.0f) * scale : 0.0f;
-    t.z[i] = mapped ? texel.z * 2.0f - 1.0f : 0.0f;
-    t.mapped[i] = mapped ? 1.0f : 0.0f;
+  if (const glm::vec4* normal = slot(kNormal)) {
+    const float scale = material.normal.scale;
+    for (int i = begin; i < end; ++i) {
+      t.x[i] = (normal[i].x * 2.0f - 1.0f) * scale;
+      t.y[i] = (normal[i].y * 2.0f - 1.0f) * scale;
+      t.z[i] = normal[i].z * 2.0f - 1.0f;
+      t.mapped[i] = 1.0f;
+    }
+  } else {
+    for (int i = begin; i < end; ++i) t.x[i] = t.y[i] = t.z[i] = t.mapped[i] = 0.0f;
   }
 
   const glm::vec4* occlusion = slot(kOcclusion);
   const float strength = saturate(material.occlusion.scale);
-  for (int i = begin; i < end; ++i)
-    b.occlusion[i] = material.occlusion.valid() ? 1.0f + strength * ((occlusion ? occlusion[i].r : 1.0f) - 1.0f) : 1.0f;
+  for (int i = begin; i < end; ++i) b.occlusion[i] = occlusion ? 1.0f + strength * (occlusion[i].r - 1.0f) : 1.0f;
 
   const glm::vec3 e = material.emissive_factor;
   const bool emits = e != glm::vec3(0.0f);
