@@ -48,6 +48,17 @@ Image row_image() {
 
 float red(const glm::vec4& c) { return c.r * 255.0f; }
 
+// A size x size sRGB mip chain of arbitrary bytes (byte i of a level is
+// (i * mul + add) % mod), decoded: distinct texels, every channel varying.
+Image scrambled_image(int size, size_t mul, size_t add, size_t mod) {
+  Image img = level_coded_image(size);
+  for (MipLevel& m : img.mips)
+    for (size_t i = 0; i < m.rgba.size(); ++i) m.rgba[i] = uint8_t((i * mul + add) % mod);
+  img.srgb = true;
+  decode_texels(img);
+  return img;
+}
+
 Sampler make_sampler(Filter mag, Filter min, std::optional<Filter> mip, Wrap wrap = Wrap::Repeat) {
   Sampler s;
   s.mag = mag;
@@ -222,11 +233,7 @@ TEST_CASE("texture footprint: one footprint samples every image of its size as t
   // the second, must give exactly the second's own lookup, for every filter
   // and wrap mode and for magnified, in-chain and past-the-chain LODs.
   Image a = level_coded_image(16);
-  Image b = level_coded_image(16);
-  for (MipLevel& m : b.mips)
-    for (size_t i = 0; i < m.rgba.size(); ++i) m.rgba[i] = uint8_t((i * 37 + 11) % 251);
-  b.srgb = true;
-  decode_texels(b);
+  const Image b = scrambled_image(16, 37, 11, 251);
   const Filter filters[2] = {Filter::Nearest, Filter::Linear};
   const Wrap wraps[3] = {Wrap::Repeat, Wrap::ClampToEdge, Wrap::MirroredRepeat};
   int compared = 0;
@@ -254,11 +261,7 @@ TEST_CASE("sample_textures equals each image's own lookup, footprints shared or 
   // (each switch recomputes what it invalidates), plus an image without levels.
   Image small = level_coded_image(16);
   Image large = level_coded_image(64);
-  Image other = level_coded_image(16);
-  for (MipLevel& m : other.mips)
-    for (size_t i = 0; i < m.rgba.size(); ++i) m.rgba[i] = uint8_t((i * 53 + 7) % 251);
-  other.srgb = true;
-  decode_texels(other);
+  const Image other = scrambled_image(16, 53, 7, 251);
   const Image empty;
   const Sampler trilinear = make_sampler(Filter::Linear, Filter::Linear, Filter::Linear);
   const Sampler mirrored = make_sampler(Filter::Nearest, Filter::Linear, Filter::Nearest, Wrap::MirroredRepeat);
@@ -299,9 +302,7 @@ TEST_CASE("decoded texels are the table decode of every code: sRGB colour, linea
 }
 
 TEST_CASE("images without decoded texels (over the load budget) sample to the same bits") {
-  Image decoded = level_coded_image(32);
-  for (MipLevel& m : decoded.mips)
-    for (size_t i = 0; i < m.rgba.size(); ++i) m.rgba[i] = uint8_t((i * 29 + 3) % 256);
+  Image decoded = scrambled_image(32, 29, 3, 256);
   for (bool srgb : {false, true}) {
     decoded.srgb = srgb;
     decode_texels(decoded);
@@ -330,11 +331,7 @@ TEST_CASE("sample_textures over many points equals the lookups point by point, b
   // (over the load budget); points with zero, tiny, huge, infinite and NaN
   // derivatives and UVs far outside [0, 1], so that every mip branch runs.
   Image small = level_coded_image(16);
-  Image large = level_coded_image(64);
-  for (MipLevel& m : large.mips)
-    for (size_t i = 0; i < m.rgba.size(); ++i) m.rgba[i] = uint8_t((i * 41 + 5) % 256);
-  large.srgb = true;
-  decode_texels(large);
+  const Image large = scrambled_image(64, 41, 5, 256);
   Image coded = large;
   for (MipLevel& m : coded.mips) m.texels.clear();
   const Image empty;
