@@ -5,22 +5,26 @@
 //   T = T_near exp(-sigma s),
 // so the lookup never adds light from behind the pixel's surface. Pixels at
 // or beyond the far end (sky) take the columns' integrated end values: no
-// slice search, no exp. The slice comes from FroxelGrid::slice_of (a table
-// and boundary compares, no log), and the composite sets up each row's and
-// column's bilinear terms once.
+// slice search, no exp.
 //
-// The composite runs a row of pixels in three steps: the bilinear reads of
-// the slice's near and far values per pixel (the slice varies per pixel; each
-// tap is one 4-wide load of radiance and transmittance), the two
-// exponentials for the whole row as a flat loop that vectorises (the
-// exponential's polynomial is a long dependency chain, so one pixel at a time
-// leaves the core idle), then the blend per pixel, 4 wide.
+// lookup_fog is the definition, one pixel at a time (4-wide over radiance and
+// transmittance). composite_fog computes the same float operations in the
+// same order, 8 pixels at a time: a froxel spans 8 pixels, so along a row
+// runs of up to 8 pixels share their 2x2 columns and differ only in weights
+// and distance. Per run, the slices its pixels reach are visited in
+// increasing order (the nearest pixel not yet reached picks the next one, so
+// only slices some pixel lies in are read); each visit broadcasts the four
+// taps' records and selects them into the lanes at or beyond the slice's
+// near boundary, so sky, geometry and no-fog pixels mix in a run without
+// per-pixel branches or gathers. The closed form's exponentials then run over
+// the row as a flat loop, and the blend writes the colour in place, in order.
 #include <algorithm>
+#include <climits>
 #include <cmath>
-
 #include <cstddef>
+#include <limits>
 
-#include <smmintrin.h>
+#include <immintrin.h>
 
 #include "fog/froxel_passes.h"
 #include "fog/homogeneous_medium.h"
@@ -136,6 +140,204 @@ void resolve_slices(SliceBatch& b, size_t n) {
   slice_fractions(n, b.sigma.data(), b.s.data(), b.dt.data(), b.fraction.data(), b.partial.data());
 }
 
+// ---- composite_fog: runs of 8 pixels that share their 2x2 columns ----
+
+constexpr int kLanes = 8;
+constexpr int kBand = 64;         // pixels per row segment, so a segment's per-pixel terms stay in L1
+constexpr int kPrefetchRows = 2;  // rows of distance and colour requested ahead
+constexpr float kNearPlane[4] = {0.0f, 0.0f, 0.0f, 1.0f};  // radiance RGB, transmittance
+
+// Radiance RGB and transmittance, a lane per pixel.
+struct Rgbt {
+  __m256 c[4];
+};
+
+// The four taps of a run: each tap's column and its weight per lane.
+struct RunTaps {
+  const IntegratedFroxel* column[4];
+  __m256 w[4];
+
+  // The bilinear sum of slice k's radiance and transmittance (k = -1: the
+  // near plane). Per channel the same float operations, in the same order,
+  // as lookup_far's and gather_slice's sums over the taps.
+  Rgbt at(int k) const {
+    Rgbt s;
+    for (__m256& c : s.c) c = _mm256_setzero_ps();
+    for (int i = 0; i < 4; ++i) {
+      const float* r = k < 0 ? kNearPlane : &column[i][k].in_scatter.x;
+      for (int ch = 0; ch < 4; ++ch) s.c[ch] = _mm256_add_ps(s.c[ch], _mm256_mul_ps(_mm256_broadcast_ss(r + ch), w[i]));
+    }
+    return s;
+  }
+  __m256 extinction(int k) const {
+    __m256 sigma = _mm256_setzero_ps();
+    for (int i = 0; i < 4; ++i)
+      sigma = _mm256_add_ps(sigma, _mm256_mul_ps(_mm256_broadcast_ss(&column[i][k].extinction), w[i]));
+    return sigma;
+  }
+};
+
+// Smallest distance among the lanes of `mask` (at least one, none NaN).
+float nearest(__m256 d, __m256 mask) {
+  __m256 m = _mm256_blendv_ps(_mm256_set1_ps(std::numeric_limits<float>::infinity()), d, mask);
+  m = _mm256_min_ps(m, _mm256_permute2f128_ps(m, m, 1));
+  m = _mm256_min_ps(m, _mm256_shuffle_ps(m, m, _MM_SHUFFLE(1, 0, 3, 2)));
+  m = _mm256_min_ps(m, _mm256_shuffle_ps(m, m, _MM_SHUFFLE(2, 3, 0, 1)));
+  return _mm256_cvtss_f32(m);
+}
+
+// One segment of a row, per pixel (structure of arrays, kLanes of padding so
+// a run's full-width store stays inside): the slice's near and far values
+// (sky: the far end's values in `far`), extinction, distance into the slice
+// and its length, the closed form's terms, and which pixels are fogged or sky.
+struct RowBatch {
+  std::vector<float> store;
+  float *near[4], *far[4], *sigma, *s, *dt, *fraction, *partial;
+  std::vector<int32_t> fog, sky;  // all bits set where true
+  explicit RowBatch(size_t n) : store(15 * n), fog(n), sky(n) {
+    float* p = store.data();
+    for (float*& a : near) a = p, p += n;
+    for (float*& a : far) a = p, p += n;
+    for (float** a : {&sigma, &s, &dt, &fraction, &partial}) *a = p, p += n;
+  }
+};
+
+template <class T>
+void store_lanes(T* at, __m256 v) {
+  _mm256_storeu_ps(reinterpret_cast<float*>(at), v);
+}
+
+// The pixels of a run (the `valid` lanes) at slot j: distance d per lane
+// (other lanes are ignored and their slots overwritten by the next run).
+void gather_run(const FroxelGrid& g, const RunTaps& taps, __m256 d, __m256 valid, RowBatch& b, size_t j) {
+  // In front of the grid (or no distance): no fog. At or beyond the far end: sky.
+  const __m256 fog = _mm256_and_ps(valid, _mm256_cmp_ps(d, _mm256_set1_ps(g.near_distance()), _CMP_GT_OQ));
+  const __m256 sky = _mm256_and_ps(fog, _mm256_cmp_ps(d, _mm256_set1_ps(g.far_distance()), _CMP_GE_OQ));
+  const __m256 inside = _mm256_andnot_ps(sky, fog);
+  Rgbt near{}, far{};
+  __m256 sigma = _mm256_setzero_ps(), start = _mm256_setzero_ps(), dt = _mm256_setzero_ps();
+  if (_mm256_movemask_ps(inside)) {
+    // Each visit's slice holds the nearest inside lane not yet reached; lanes
+    // at or beyond its near boundary take it, so each lane ends with its own
+    // slice (slice_of is exact against the boundaries, which increase).
+    int k = g.slice_of(nearest(d, inside));
+    int held = INT_MIN;  // the slice whose sum `at_k` holds
+    Rgbt at_k{};
+    for (;;) {
+      const Rgbt before = held == k - 1 ? at_k : taps.at(k - 1);
+      at_k = taps.at(k);
+      held = k;
+      const __m256 reached = _mm256_cmp_ps(d, _mm256_set1_ps(g.boundary(k)), _CMP_GE_OQ);
+      for (int ch = 0; ch < 4; ++ch) {
+        near.c[ch] = _mm256_blendv_ps(near.c[ch], before.c[ch], reached);
+        far.c[ch] = _mm256_blendv_ps(far.c[ch], at_k.c[ch], reached);
+      }
+      sigma = _mm256_blendv_ps(sigma, taps.extinction(k), reached);
+      start = _mm256_blendv_ps(start, _mm256_set1_ps(g.boundary(k)), reached);
+      dt = _mm256_blendv_ps(dt, _mm256_set1_ps(g.thickness(k)), reached);
+      if (k + 1 == g.nz()) break;
+      const __m256 beyond = _mm256_and_ps(inside, _mm256_cmp_ps(d, _mm256_set1_ps(g.boundary(k + 1)), _CMP_GE_OQ));
+      if (!_mm256_movemask_ps(beyond)) break;
+      k = g.slice_of(nearest(d, beyond));
+    }
+  }
+  if (_mm256_movemask_ps(sky)) {
+    const Rgbt end = taps.at(g.nz() - 1);
+    for (int ch = 0; ch < 4; ++ch) far.c[ch] = _mm256_blendv_ps(far.c[ch], end.c[ch], sky);
+  }
+  for (int ch = 0; ch < 4; ++ch) {
+    store_lanes(b.near[ch] + j, near.c[ch]);
+    store_lanes(b.far[ch] + j, far.c[ch]);
+  }
+  store_lanes(b.sigma + j, sigma);
+  // max(0, x) is std::max(x, 0.0f), NaN and signed zeros included.
+  store_lanes(b.s + j, _mm256_max_ps(_mm256_setzero_ps(), _mm256_sub_ps(d, start)));
+  store_lanes(b.dt + j, dt);
+  store_lanes(b.fog.data() + j, fog);
+  store_lanes(b.sky.data() + j, sky);
+}
+
+// colour = colour * T + L for slots [0, n) of a row segment: resolve_slot's
+// float operations, or the far end's values for sky. Restrict pointers, so
+// the compiler knows the arrays apart and vectorises.
+void blend_row(const RowBatch& b, size_t n, glm::vec3* color) {
+  float* __restrict c = &color->x;
+  const float* __restrict near[4] = {b.near[0], b.near[1], b.near[2], b.near[3]};
+  const float* __restrict far[4] = {b.far[0], b.far[1], b.far[2], b.far[3]};
+  const float* __restrict fraction = b.fraction;
+  const float* __restrict partial = b.partial;
+  const int32_t* __restrict fog = b.fog.data();
+  const int32_t* __restrict sky = b.sky.data();
+  for (size_t j = 0; j < n; ++j) {
+    const float t = sky[j] ? far[3][j] : near[3][j] * (1.0f - partial[j]);
+    for (int ch = 0; ch < 3; ++ch) {
+      const float l = sky[j] ? far[ch][j] : near[ch][j] + (far[ch][j] - near[ch][j]) * fraction[j];
+      c[3 * j + ch] = fog[j] ? c[3 * j + ch] * t + l : c[3 * j + ch];
+    }
+  }
+}
+
+// Requests [begin, begin + bytes) into the cache ahead of use: a band's rows
+// lie a frame width apart, a stride the hardware prefetchers do not follow
+// in time.
+void prefetch(const void* begin, size_t bytes) {
+  const char* p = static_cast<const char*>(begin);
+  for (size_t o = 0; o < bytes; o += 64) _mm_prefetch(p + o, _MM_HINT_T0);
+  _mm_prefetch(p + bytes - 1, _MM_HINT_T0);
+}
+
+// Pixels [x0, x1) x [y0, y1) with x1 - x0 <= kBand.
+void composite_band(const FroxelGrid& grid, const IntegratedFroxel* volume, const float* distance,
+                    glm::vec3* color, int width, int x0, int y0, int x1, int y1, RowBatch& b) {
+  const float inv_size = 1.0f / float(grid.froxel_size());
+  const size_t n = size_t(x1 - x0);
+  // Runs: consecutive pixels with the same columns, at most kLanes each.
+  struct Run {
+    int x, len;
+    Axis ax;
+  };
+  Run runs[kBand];
+  int run_count = 0;
+  alignas(32) float column_weight[kBand + kLanes] = {};  // each pixel's ax.a
+  for (int x = x0; x < x1; ++x) {
+    const Axis ax = axis_at(float(x) + 0.5f, inv_size, grid.nx());
+    column_weight[x - x0] = ax.a;
+    Run* last = run_count ? &runs[run_count - 1] : nullptr;
+    if (last && last->ax.i0 == ax.i0 && last->len < kLanes)
+      ++last->len;
+    else
+      runs[run_count++] = Run{x - x0, 1, ax};
+  }
+  const int nx = grid.nx(), nz = grid.nz();
+  for (int y = y0; y < y1; ++y) {
+    const Axis ay = axis_at(float(y) + 0.5f, inv_size, grid.ny());
+    const __m256 ay_a = _mm256_set1_ps(ay.a), ay_1 = _mm256_set1_ps(1 - ay.a);
+    const size_t row = size_t(y) * size_t(width) + size_t(x0);
+    if (y + kPrefetchRows < y1) {
+      const size_t ahead = row + size_t(kPrefetchRows) * size_t(width);
+      prefetch(distance + ahead, n * sizeof(float));
+      prefetch(color + ahead, n * sizeof(glm::vec3));
+    }
+    const IntegratedFroxel* row0 = volume + size_t(ay.i0) * nx * nz;
+    const IntegratedFroxel* row1 = volume + size_t(ay.i1) * nx * nz;
+    for (int r = 0; r < run_count; ++r) {
+      const Run& run = runs[r];
+      const __m256 a = _mm256_loadu_ps(column_weight + run.x), a_1 = _mm256_sub_ps(_mm256_set1_ps(1.0f), a);
+      // weights_of's products, per lane.
+      const RunTaps taps{{row0 + size_t(run.ax.i0) * nz, row0 + size_t(run.ax.i1) * nz,
+                          row1 + size_t(run.ax.i0) * nz, row1 + size_t(run.ax.i1) * nz},
+                         {_mm256_mul_ps(a_1, ay_1), _mm256_mul_ps(a, ay_1), _mm256_mul_ps(a_1, ay_a),
+                          _mm256_mul_ps(a, ay_a)}};
+      const __m256 lane = _mm256_setr_ps(0, 1, 2, 3, 4, 5, 6, 7);
+      const __m256 valid = _mm256_cmp_ps(lane, _mm256_set1_ps(float(run.len)), _CMP_LT_OQ);
+      const __m256 d = _mm256_maskload_ps(distance + row + size_t(run.x), _mm256_castps_si256(valid));
+      gather_run(grid, taps, d, valid, b, size_t(run.x));
+    }
+    slice_fractions(n, b.sigma, b.s, b.dt, b.fraction, b.partial);
+    blend_row(b, n, color + row);
+  }
+}
+
 }  // namespace
 
 void lookup_fog(const FroxelGrid& g, const std::vector<IntegratedFroxel>& volume, float px, float py,
@@ -162,37 +364,10 @@ void composite_fog(const FroxelGrid& grid, const std::vector<IntegratedFroxel>& 
                    const std::vector<float>& distance, std::vector<glm::vec3>& color, int width, int x0, int y0,
                    int x1, int y1) {
   if (x1 <= x0 || y1 <= y0) return;
-  const float inv_size = 1.0f / float(grid.froxel_size());
-  const float near = grid.near_distance(), far = grid.far_distance();
-  std::vector<Axis> columns(size_t(x1 - x0));
-  for (int x = x0; x < x1; ++x) columns[size_t(x - x0)] = axis_at(float(x) + 0.5f, inv_size, grid.nx());
-  SliceBatch batch(size_t(x1 - x0));
-  std::vector<size_t> pixel(size_t(x1 - x0));  // batch slot -> pixel index
-  for (int y = y0; y < y1; ++y) {
-    const Axis ay = axis_at(float(y) + 0.5f, inv_size, grid.ny());
-    size_t n = 0;
-    for (int x = x0; x < x1; ++x) {
-      const size_t i = size_t(y) * size_t(width) + size_t(x);
-      const float d = distance[i];
-      if (!(d > near)) continue;  // in front of the grid (or no distance): no fog
-      const Weights wt = weights_of(grid, columns[size_t(x - x0)], ay);
-      if (d >= far) {
-        alignas(16) float v[4];
-        _mm_store_ps(v, lookup_far(grid, volume.data(), wt));
-        color[i] = color[i] * v[3] + glm::vec3(v[0], v[1], v[2]);
-        continue;
-      }
-      gather_slice(grid, volume.data(), wt, d, batch, n);
-      pixel[n++] = i;
-    }
-    resolve_slices(batch, n);
-    for (size_t j = 0; j < n; ++j) {
-      alignas(16) float v[4];
-      _mm_store_ps(v, resolve_slot(batch, j));
-      glm::vec3& c = color[pixel[j]];
-      c = c * v[3] + glm::vec3(v[0], v[1], v[2]);
-    }
-  }
+  RowBatch batch(size_t(std::min(x1 - x0, kBand) + kLanes));
+  for (int bx = x0; bx < x1; bx += kBand)
+    composite_band(grid, volume.data(), distance.data(), color.data(), width, bx, y0, std::min(x1, bx + kBand), y1,
+                   batch);
 }
 
 }  // namespace cr
