@@ -40,9 +40,12 @@ std::array<float, 3> phase_zonal_coefficients(FogPhase phase, float g) {
 glm::vec3 phase_convolved_ambient(const std::array<glm::vec3, 9>& sh, const std::array<float, 3>& zonal,
                                   const glm::vec3& view_dir) {
   const std::array<float, 9> y = sh_basis(view_dir);
-  const float band[9] = {zonal[0], zonal[1], zonal[1], zonal[1], zonal[2], zonal[2], zonal[2], zonal[2], zonal[2]};
   glm::vec3 sum(0.0f);
-  for (size_t i = 0; i < 9; ++i) sum += sh[i] * (band[i] * y[i]);
+  // Coefficient i is in band 0, 1 (i = 1..3) or 2 (i = 4..8). Indexing
+  // zonal directly, not through a per-call table of 9 band factors: GCC packs
+  // such a table with scalar stores and reloads it as one vector, a
+  // store-forwarding stall that cost more than the sum itself.
+  for (size_t i = 0; i < 9; ++i) sum += sh[i] * (zonal[i == 0 ? 0 : i < 4 ? 1 : 2] * y[i]);
   // Band-limited light may ring below zero; radiance cannot.
   return glm::max(sum, glm::vec3(0.0f));
 }
