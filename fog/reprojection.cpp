@@ -19,6 +19,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <optional>
 #include <utility>
 
 #include "fog/fast_log.h"
@@ -41,7 +42,9 @@ bool same_camera(const Camera& a, const Camera& b) {
 struct HistoryProjection {
   const FroxelGrid* grid;
   const float* values;
-  const uint16_t* lit;     // per history column: slices it holds
+  // Per history column (x0, y0): the fewest slices the 2x2 columns x0..x1,
+  // y0..y1 of a trilinear read from there hold (x1, y1 clamped to the grid).
+  std::vector<uint16_t> lit_2x2;
   float scale_x, scale_y;  // pixels per unit of x/z and y/z
   float half_w, half_h;    // screen centre in pixels
   float max_px, max_py;    // grid extent in pixels
@@ -50,7 +53,14 @@ struct HistoryProjection {
   HistoryProjection(const FroxelView& hv, const std::vector<float>& history) {
     grid = &hv.grid;
     values = history.data();
-    lit = hv.lit_slices.data();
+    const int nx = grid->nx(), ny = grid->ny();
+    lit_2x2.resize(grid->columns());
+    for (int y = 0; y < ny; ++y)
+      for (int x = 0; x < nx; ++x) {
+        const int x1 = std::min(x + 1, nx - 1), y1 = std::min(y + 1, ny - 1);
+        lit_2x2[size_t(y) * nx + x] = std::min({hv.lit_slices[size_t(y) * nx + x], hv.lit_slices[size_t(y) * nx + x1],
+                                                hv.lit_slices[size_t(y1) * nx + x], hv.lit_slices[size_t(y1) * nx + x1]});
+      }
     const float tan_y = std::tan(0.5f * hv.camera.vfov_rad);
     scale_x = 0.5f * float(grid->width()) / (tan_y * hv.camera.aspect);
     scale_y = 0.5f * float(grid->height()) / tan_y;
@@ -114,8 +124,7 @@ struct HistoryProjection {
       }
       const int dz = z0 + 1 < nz ? 1 : 0;
       const int need = z0 + dz + 1;
-      if (!s.inside[size_t(k)] || lit[size_t(y0) * nx + x0] < need || lit[size_t(y0) * nx + x1] < need ||
-          lit[size_t(y1) * nx + x0] < need || lit[size_t(y1) * nx + x1] < need) {
+      if (!s.inside[size_t(k)] || lit_2x2[size_t(y0) * nx + x0] < need) {
         h[k] = cur[k];
         ++rejected;
         continue;
@@ -169,7 +178,8 @@ ReprojectStats reproject_history(const FroxelView& view, const std::vector<float
   const glm::vec3 offset_world(view.camera.position - hc.position);
   const glm::vec3 offset(glm::dot(offset_world, hc.right), glm::dot(offset_world, hc.up),
                          glm::dot(offset_world, hc.forward));
-  const HistoryProjection projection(history_view, history);
+  std::optional<HistoryProjection> projection;  // set up only for a moved camera
+  if (!stats.identity) projection.emplace(history_view, history);
   const int nx = g.nx(), ny = g.ny(), nz = g.nz();
   std::vector<float> centers(static_cast<size_t>(nz));
   for (int k = 0; k < nz; ++k) centers[size_t(k)] = g.center(k);
@@ -222,9 +232,9 @@ ReprojectStats reproject_history(const FroxelView& view, const std::vector<float
         } else {
           const glm::vec3 d = view.directions[c];
           const glm::vec3 dv(glm::dot(d, hc.right), glm::dot(d, hc.up), glm::dot(d, hc.forward));
-          projection.project(offset, dv, centers.data(), n, scratch.fx.data(), scratch.fy.data(),
+          projection->project(offset, dv, centers.data(), n, scratch.fx.data(), scratch.fy.data(),
                              scratch.fz.data(), scratch.inside.data());
-          rejected = projection.read(scratch, cur, n, h.data());
+          rejected = projection->read(scratch, cur, n, h.data());
         }
         rejected_per_row[size_t(y)] += rejected;
         const size_t len = size_t(n);
