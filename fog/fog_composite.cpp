@@ -11,15 +11,19 @@
 // transmittance). composite_fog computes the same float operations in the
 // same order, 8 pixels at a time: a froxel spans 8 pixels, so along a row
 // runs of up to 8 pixels share their 2x2 columns and differ only in weights
-// and distance. Per run, the slices its pixels reach are visited in
-// increasing order (the nearest pixel not yet reached picks the next one, so
-// only slices some pixel lies in are read); each visit broadcasts the four
+// and distance. A first pass over a row finds each run's fogged and sky
+// pixels and the slice of its nearest pixel inside the grid (a chain of
+// dependent loads, kept out of the second pass's way). The second pass
+// finishes each run with fog in registers. Its pixels inside the grid visit
+// the slices some pixel of the run lies in, in increasing order (the nearest
+// pixel not yet reached picks the next one); each visit broadcasts the four
 // taps' records and selects them into the lanes at or beyond the slice's
-// near boundary, so sky, geometry and no-fog pixels mix in a run without
-// per-pixel branches or gathers. The closed form's exponentials then run over
-// the row as a flat loop, and the blend writes the colour in place, in order.
+// near boundary, and the closed form then runs once over the 8 lanes
+// through the definition's own loop. Sky pixels take the four taps' far end
+// only. The run's colours are loaded as three registers, transposed to one
+// register per channel, blended, transposed back and stored; runs without
+// fog are not touched, runs of sky skip the slice search and the closed form.
 #include <algorithm>
-#include <climits>
 #include <cmath>
 #include <cstddef>
 #include <limits>
@@ -143,7 +147,6 @@ void resolve_slices(SliceBatch& b, size_t n) {
 // ---- composite_fog: runs of 8 pixels that share their 2x2 columns ----
 
 constexpr int kLanes = 8;
-constexpr int kBand = 64;         // pixels per row segment, so a segment's per-pixel terms stay in L1
 constexpr int kPrefetchRows = 2;  // rows of distance and colour requested ahead
 constexpr float kNearPlane[4] = {0.0f, 0.0f, 0.0f, 1.0f};  // radiance RGB, transmittance
 
@@ -158,14 +161,16 @@ struct RunTaps {
   __m256 w[4];
 
   // The bilinear sum of slice k's radiance and transmittance (k = -1: the
-  // near plane). Per channel the same float operations, in the same order,
-  // as lookup_far's and gather_slice's sums over the taps.
-  Rgbt at(int k) const {
+  // near plane), its first `channels` channels (the rest 0). Per channel the
+  // same float operations, in the same order, as lookup_far's and
+  // gather_slice's sums over the taps.
+  Rgbt at(int k, int channels = 4) const {
     Rgbt s;
     for (__m256& c : s.c) c = _mm256_setzero_ps();
     for (int i = 0; i < 4; ++i) {
       const float* r = k < 0 ? kNearPlane : &column[i][k].in_scatter.x;
-      for (int ch = 0; ch < 4; ++ch) s.c[ch] = _mm256_add_ps(s.c[ch], _mm256_mul_ps(_mm256_broadcast_ss(r + ch), w[i]));
+      for (int ch = 0; ch < channels; ++ch)
+        s.c[ch] = _mm256_add_ps(s.c[ch], _mm256_mul_ps(_mm256_broadcast_ss(r + ch), w[i]));
     }
     return s;
   }
@@ -177,6 +182,7 @@ struct RunTaps {
   }
 };
 
+
 // Smallest distance among the lanes of `mask` (at least one, none NaN).
 float nearest(__m256 d, __m256 mask) {
   __m256 m = _mm256_blendv_ps(_mm256_set1_ps(std::numeric_limits<float>::infinity()), d, mask);
@@ -186,156 +192,151 @@ float nearest(__m256 d, __m256 mask) {
   return _mm256_cvtss_f32(m);
 }
 
-// One segment of a row, per pixel (structure of arrays, kLanes of padding so
-// a run's full-width store stays inside): the slice's near and far values
-// (sky: the far end's values in `far`), extinction, distance into the slice
-// and its length, the closed form's terms, and which pixels are fogged or sky.
-struct RowBatch {
-  std::vector<float> store;
-  float *near[4], *far[4], *sigma, *s, *dt, *fraction, *partial;
-  std::vector<int32_t> fog, sky;  // all bits set where true
-  explicit RowBatch(size_t n) : store(15 * n), fog(n), sky(n) {
-    float* p = store.data();
-    for (float*& a : near) a = p, p += n;
-    for (float*& a : far) a = p, p += n;
-    for (float** a : {&sigma, &s, &dt, &fraction, &partial}) *a = p, p += n;
+// Radiance RGB (c[0..2]) and transmittance (c[3]) of the `inside` lanes of a
+// run at distance d: resolve_slot's float operations on gather_slice's sums.
+// Each visit's slice holds the nearest inside lane not yet reached; lanes at
+// or beyond its near boundary take it, so each lane ends with its own slice
+// (slice_of is exact against the boundaries, which increase). The first
+// visit, slice k, is the nearest inside lane's.
+Rgbt resolve_inside(const FroxelGrid& g, const RunTaps& taps, __m256 d, __m256 inside, int k) {
+  // Slice k's radiance: a far boundary's transmittance is not used (only a
+  // near boundary's, taken when a later visit starts there).
+  Rgbt at_k = taps.at(k, 3);
+  Rgbt near = taps.at(k - 1), far = at_k;
+  __m256 sigma = taps.extinction(k), start = _mm256_set1_ps(g.boundary(k)), dt = _mm256_set1_ps(g.thickness(k));
+  while (k + 1 < g.nz()) {
+    const __m256 beyond = _mm256_and_ps(inside, _mm256_cmp_ps(d, _mm256_set1_ps(g.boundary(k + 1)), _CMP_GE_OQ));
+    if (!_mm256_movemask_ps(beyond)) break;
+    const int next = g.slice_of(nearest(d, beyond));
+    Rgbt before = at_k;
+    if (next == k + 1)
+      before.c[3] = taps.at(k).c[3];
+    else
+      before = taps.at(next - 1);
+    k = next;
+    at_k = taps.at(k, 3);
+    const __m256 reached = _mm256_cmp_ps(d, _mm256_set1_ps(g.boundary(k)), _CMP_GE_OQ);
+    for (int ch = 0; ch < 4; ++ch) near.c[ch] = _mm256_blendv_ps(near.c[ch], before.c[ch], reached);
+    for (int ch = 0; ch < 3; ++ch) far.c[ch] = _mm256_blendv_ps(far.c[ch], at_k.c[ch], reached);
+    sigma = _mm256_blendv_ps(sigma, taps.extinction(k), reached);
+    start = _mm256_blendv_ps(start, _mm256_set1_ps(g.boundary(k)), reached);
+    dt = _mm256_blendv_ps(dt, _mm256_set1_ps(g.thickness(k)), reached);
   }
+  // The closed form's terms through the definition's own loop (8 slots).
+  alignas(32) float sigma_of[kLanes], s_of[kLanes], dt_of[kLanes], fraction_of[kLanes], partial_of[kLanes];
+  _mm256_store_ps(sigma_of, sigma);
+  // max(0, x) is std::max(x, 0.0f), NaN and signed zeros included.
+  _mm256_store_ps(s_of, _mm256_max_ps(_mm256_setzero_ps(), _mm256_sub_ps(d, start)));
+  _mm256_store_ps(dt_of, dt);
+  slice_fractions(kLanes, sigma_of, s_of, dt_of, fraction_of, partial_of);
+  const __m256 fraction = _mm256_load_ps(fraction_of);
+  Rgbt out;
+  for (int ch = 0; ch < 3; ++ch)
+    out.c[ch] = _mm256_add_ps(near.c[ch], _mm256_mul_ps(_mm256_sub_ps(far.c[ch], near.c[ch]), fraction));
+  out.c[3] = _mm256_mul_ps(near.c[3], _mm256_sub_ps(_mm256_set1_ps(1.0f), _mm256_load_ps(partial_of)));
+  return out;
+}
+
+// 8 pixels' colours (24 floats, 3 registers) <-> a register per channel.
+// A blend gathers each channel's 8 values into one register (in a fixed
+// order that one permute sorts), and the inverse permute and blends put
+// them back.
+constexpr int kFromFirst = 0b01001001, kFromSecond = 0b10010010;  // lanes {0,3,6} and {1,4,7}
+__m256 mix3(__m256 a, __m256 b, __m256 c) {  // a at {0,3,6}, b at {1,4,7}, c at {2,5}
+  return _mm256_blend_ps(_mm256_blend_ps(a, b, kFromSecond), c, 0xff & ~(kFromFirst | kFromSecond));
+}
+// The permutes (R's and B's are their own inverses).
+__m256i sort_r() { return _mm256_setr_epi32(0, 3, 6, 1, 4, 7, 2, 5); }
+__m256i sort_g() { return _mm256_setr_epi32(1, 4, 7, 2, 5, 0, 3, 6); }
+__m256i unsort_g() { return _mm256_setr_epi32(5, 0, 3, 6, 1, 4, 7, 2); }
+__m256i sort_b() { return _mm256_setr_epi32(2, 5, 0, 3, 6, 1, 4, 7); }
+
+void to_channels(const __m256 aos[3], __m256 rgb[3]) {
+  rgb[0] = _mm256_permutevar8x32_ps(mix3(aos[0], aos[1], aos[2]), sort_r());
+  rgb[1] = _mm256_permutevar8x32_ps(mix3(aos[2], aos[0], aos[1]), sort_g());
+  rgb[2] = _mm256_permutevar8x32_ps(mix3(aos[1], aos[2], aos[0]), sort_b());
+}
+
+void to_pixels(const __m256 rgb[3], __m256 aos[3]) {
+  const __m256 r = _mm256_permutevar8x32_ps(rgb[0], sort_r());
+  const __m256 g = _mm256_permutevar8x32_ps(rgb[1], unsort_g());
+  const __m256 b = _mm256_permutevar8x32_ps(rgb[2], sort_b());
+  aos[0] = mix3(r, g, b);
+  aos[1] = mix3(b, r, g);
+  aos[2] = mix3(g, b, r);
+}
+
+// colour = colour * T + L for the `fog` lanes of a run of `len` pixels at `color`.
+void blend_run(glm::vec3* color, int len, __m256 fog, const Rgbt& fogged) {
+  float* c = &color->x;
+  // Floats of the run: all 24, or the first 3 len (masked, so a cut run
+  // touches no pixel outside it).
+  const bool whole = len == kLanes;
+  __m256 aos[3], rgb[3];
+  __m256i part[3];
+  for (int r = 0; r < 3; ++r) {
+    part[r] = _mm256_cmpgt_epi32(_mm256_set1_epi32(3 * len - kLanes * r), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
+    aos[r] = whole ? _mm256_loadu_ps(c + kLanes * r) : _mm256_maskload_ps(c + kLanes * r, part[r]);
+  }
+  to_channels(aos, rgb);
+  for (int ch = 0; ch < 3; ++ch)
+    rgb[ch] = _mm256_blendv_ps(rgb[ch], _mm256_add_ps(_mm256_mul_ps(rgb[ch], fogged.c[3]), fogged.c[ch]), fog);
+  to_pixels(rgb, aos);
+  for (int r = 0; r < 3; ++r) {
+    if (whole)
+      _mm256_storeu_ps(c + kLanes * r, aos[r]);
+    else
+      _mm256_maskstore_ps(c + kLanes * r, part[r], aos[r]);
+  }
+}
+
+// What the first pass over a row finds per run: which lanes are fogged and
+// which sky (movemask bits), and the slice of its nearest pixel inside the
+// grid. The slice search is a chain of dependent loads that the second pass
+// then need not wait for.
+struct RunStart {
+  int fog, sky, slice;
 };
 
-template <class T>
-void store_lanes(T* at, __m256 v) {
-  _mm256_storeu_ps(reinterpret_cast<float*>(at), v);
+// In front of the grid (or no distance): no fog. At or beyond the far end: sky.
+__m256 fog_lanes(const FroxelGrid& g, __m256 d, __m256 valid) {
+  return _mm256_and_ps(valid, _mm256_cmp_ps(d, _mm256_set1_ps(g.near_distance()), _CMP_GT_OQ));
+}
+__m256 sky_lanes(const FroxelGrid& g, __m256 d, __m256 fog) {
+  return _mm256_and_ps(fog, _mm256_cmp_ps(d, _mm256_set1_ps(g.far_distance()), _CMP_GE_OQ));
 }
 
-// The pixels of a run (the `valid` lanes) at slot j: distance d per lane
-// (other lanes are ignored and their slots overwritten by the next run).
-void gather_run(const FroxelGrid& g, const RunTaps& taps, __m256 d, __m256 valid, RowBatch& b, size_t j) {
-  // In front of the grid (or no distance): no fog. At or beyond the far end: sky.
-  const __m256 fog = _mm256_and_ps(valid, _mm256_cmp_ps(d, _mm256_set1_ps(g.near_distance()), _CMP_GT_OQ));
-  const __m256 sky = _mm256_and_ps(fog, _mm256_cmp_ps(d, _mm256_set1_ps(g.far_distance()), _CMP_GE_OQ));
-  const __m256 inside = _mm256_andnot_ps(sky, fog);
-  Rgbt near{}, far{};
-  __m256 sigma = _mm256_setzero_ps(), start = _mm256_setzero_ps(), dt = _mm256_setzero_ps();
-  if (_mm256_movemask_ps(inside)) {
-    // Each visit's slice holds the nearest inside lane not yet reached; lanes
-    // at or beyond its near boundary take it, so each lane ends with its own
-    // slice (slice_of is exact against the boundaries, which increase).
-    int k = g.slice_of(nearest(d, inside));
-    int held = INT_MIN;  // the slice whose sum `at_k` holds
-    Rgbt at_k{};
-    for (;;) {
-      const Rgbt before = held == k - 1 ? at_k : taps.at(k - 1);
-      at_k = taps.at(k);
-      held = k;
-      const __m256 reached = _mm256_cmp_ps(d, _mm256_set1_ps(g.boundary(k)), _CMP_GE_OQ);
-      for (int ch = 0; ch < 4; ++ch) {
-        near.c[ch] = _mm256_blendv_ps(near.c[ch], before.c[ch], reached);
-        far.c[ch] = _mm256_blendv_ps(far.c[ch], at_k.c[ch], reached);
-      }
-      sigma = _mm256_blendv_ps(sigma, taps.extinction(k), reached);
-      start = _mm256_blendv_ps(start, _mm256_set1_ps(g.boundary(k)), reached);
-      dt = _mm256_blendv_ps(dt, _mm256_set1_ps(g.thickness(k)), reached);
-      if (k + 1 == g.nz()) break;
-      const __m256 beyond = _mm256_and_ps(inside, _mm256_cmp_ps(d, _mm256_set1_ps(g.boundary(k + 1)), _CMP_GE_OQ));
-      if (!_mm256_movemask_ps(beyond)) break;
-      k = g.slice_of(nearest(d, beyond));
-    }
-  }
-  if (_mm256_movemask_ps(sky)) {
+RunStart start_of(const FroxelGrid& g, __m256 d, __m256 valid) {
+  const __m256 fog = fog_lanes(g, d, valid), sky = sky_lanes(g, d, fog);
+  // No inside lane: the far end's slice, unused.
+  return RunStart{_mm256_movemask_ps(fog), _mm256_movemask_ps(sky), g.slice_of(nearest(d, _mm256_andnot_ps(sky, fog)))};
+}
+
+// One run with fog: `valid` lanes of distance d, colours at `color`. Sky
+// lanes take the columns' far end (lookup_far's sums), lanes inside the grid
+// resolve_inside's; runs of sky skip the slice search.
+void composite_run(const FroxelGrid& g, const RunTaps& taps, __m256 d, __m256 valid, const RunStart& start, int len,
+                   glm::vec3* color) {
+  const __m256 fog = fog_lanes(g, d, valid), sky = sky_lanes(g, d, fog);
+  Rgbt fogged;
+  if (start.fog != start.sky) fogged = resolve_inside(g, taps, d, _mm256_andnot_ps(sky, fog), start.slice);
+  if (start.sky) {
     const Rgbt end = taps.at(g.nz() - 1);
-    for (int ch = 0; ch < 4; ++ch) far.c[ch] = _mm256_blendv_ps(far.c[ch], end.c[ch], sky);
+    if (start.fog == start.sky)
+      fogged = end;
+    else
+      for (int ch = 0; ch < 4; ++ch) fogged.c[ch] = _mm256_blendv_ps(fogged.c[ch], end.c[ch], sky);
   }
-  for (int ch = 0; ch < 4; ++ch) {
-    store_lanes(b.near[ch] + j, near.c[ch]);
-    store_lanes(b.far[ch] + j, far.c[ch]);
-  }
-  store_lanes(b.sigma + j, sigma);
-  // max(0, x) is std::max(x, 0.0f), NaN and signed zeros included.
-  store_lanes(b.s + j, _mm256_max_ps(_mm256_setzero_ps(), _mm256_sub_ps(d, start)));
-  store_lanes(b.dt + j, dt);
-  store_lanes(b.fog.data() + j, fog);
-  store_lanes(b.sky.data() + j, sky);
+  blend_run(color, len, fog, fogged);
 }
 
-// colour = colour * T + L for slots [0, n) of a row segment: resolve_slot's
-// float operations, or the far end's values for sky. Restrict pointers, so
-// the compiler knows the arrays apart and vectorises.
-void blend_row(const RowBatch& b, size_t n, glm::vec3* color) {
-  float* __restrict c = &color->x;
-  const float* __restrict near[4] = {b.near[0], b.near[1], b.near[2], b.near[3]};
-  const float* __restrict far[4] = {b.far[0], b.far[1], b.far[2], b.far[3]};
-  const float* __restrict fraction = b.fraction;
-  const float* __restrict partial = b.partial;
-  const int32_t* __restrict fog = b.fog.data();
-  const int32_t* __restrict sky = b.sky.data();
-  for (size_t j = 0; j < n; ++j) {
-    const float t = sky[j] ? far[3][j] : near[3][j] * (1.0f - partial[j]);
-    for (int ch = 0; ch < 3; ++ch) {
-      const float l = sky[j] ? far[ch][j] : near[ch][j] + (far[ch][j] - near[ch][j]) * fraction[j];
-      c[3 * j + ch] = fog[j] ? c[3 * j + ch] * t + l : c[3 * j + ch];
-    }
-  }
-}
-
-// Requests [begin, begin + bytes) into the cache ahead of use: a band's rows
+// Requests [begin, begin + bytes) into the cache ahead of use: a tile's rows
 // lie a frame width apart, a stride the hardware prefetchers do not follow
 // in time.
 void prefetch(const void* begin, size_t bytes) {
   const char* p = static_cast<const char*>(begin);
   for (size_t o = 0; o < bytes; o += 64) _mm_prefetch(p + o, _MM_HINT_T0);
   _mm_prefetch(p + bytes - 1, _MM_HINT_T0);
-}
-
-// Pixels [x0, x1) x [y0, y1) with x1 - x0 <= kBand.
-void composite_band(const FroxelGrid& grid, const IntegratedFroxel* volume, const float* distance,
-                    glm::vec3* color, int width, int x0, int y0, int x1, int y1, RowBatch& b) {
-  const float inv_size = 1.0f / float(grid.froxel_size());
-  const size_t n = size_t(x1 - x0);
-  // Runs: consecutive pixels with the same columns, at most kLanes each.
-  struct Run {
-    int x, len;
-    Axis ax;
-  };
-  Run runs[kBand];
-  int run_count = 0;
-  alignas(32) float column_weight[kBand + kLanes] = {};  // each pixel's ax.a
-  for (int x = x0; x < x1; ++x) {
-    const Axis ax = axis_at(float(x) + 0.5f, inv_size, grid.nx());
-    column_weight[x - x0] = ax.a;
-    Run* last = run_count ? &runs[run_count - 1] : nullptr;
-    if (last && last->ax.i0 == ax.i0 && last->len < kLanes)
-      ++last->len;
-    else
-      runs[run_count++] = Run{x - x0, 1, ax};
-  }
-  const int nx = grid.nx(), nz = grid.nz();
-  for (int y = y0; y < y1; ++y) {
-    const Axis ay = axis_at(float(y) + 0.5f, inv_size, grid.ny());
-    const __m256 ay_a = _mm256_set1_ps(ay.a), ay_1 = _mm256_set1_ps(1 - ay.a);
-    const size_t row = size_t(y) * size_t(width) + size_t(x0);
-    if (y + kPrefetchRows < y1) {
-      const size_t ahead = row + size_t(kPrefetchRows) * size_t(width);
-      prefetch(distance + ahead, n * sizeof(float));
-      prefetch(color + ahead, n * sizeof(glm::vec3));
-    }
-    const IntegratedFroxel* row0 = volume + size_t(ay.i0) * nx * nz;
-    const IntegratedFroxel* row1 = volume + size_t(ay.i1) * nx * nz;
-    for (int r = 0; r < run_count; ++r) {
-      const Run& run = runs[r];
-      const __m256 a = _mm256_loadu_ps(column_weight + run.x), a_1 = _mm256_sub_ps(_mm256_set1_ps(1.0f), a);
-      // weights_of's products, per lane.
-      const RunTaps taps{{row0 + size_t(run.ax.i0) * nz, row0 + size_t(run.ax.i1) * nz,
-                          row1 + size_t(run.ax.i0) * nz, row1 + size_t(run.ax.i1) * nz},
-                         {_mm256_mul_ps(a_1, ay_1), _mm256_mul_ps(a, ay_1), _mm256_mul_ps(a_1, ay_a),
-                          _mm256_mul_ps(a, ay_a)}};
-      const __m256 lane = _mm256_setr_ps(0, 1, 2, 3, 4, 5, 6, 7);
-      const __m256 valid = _mm256_cmp_ps(lane, _mm256_set1_ps(float(run.len)), _CMP_LT_OQ);
-      const __m256 d = _mm256_maskload_ps(distance + row + size_t(run.x), _mm256_castps_si256(valid));
-      gather_run(grid, taps, d, valid, b, size_t(run.x));
-    }
-    slice_fractions(n, b.sigma, b.s, b.dt, b.fraction, b.partial);
-    blend_row(b, n, color + row);
-  }
 }
 
 }  // namespace
@@ -364,10 +365,58 @@ void composite_fog(const FroxelGrid& grid, const std::vector<IntegratedFroxel>& 
                    const std::vector<float>& distance, std::vector<glm::vec3>& color, int width, int x0, int y0,
                    int x1, int y1) {
   if (x1 <= x0 || y1 <= y0) return;
-  RowBatch batch(size_t(std::min(x1 - x0, kBand) + kLanes));
-  for (int bx = x0; bx < x1; bx += kBand)
-    composite_band(grid, volume.data(), distance.data(), color.data(), width, bx, y0, std::min(x1, bx + kBand), y1,
-                   batch);
+  const float inv_size = 1.0f / float(grid.froxel_size());
+  const size_t n = size_t(x1 - x0);
+  // Runs: consecutive pixels with the same columns, at most kLanes each.
+  struct Run {
+    int x, len;
+    Axis ax;
+    __m256 lanes;   // the first len lanes
+    __m256i valid;  // the same, for masked loads
+  };
+  std::vector<Run> runs;
+  std::vector<float> column_weight(n + kLanes);  // each pixel's ax.a
+  for (int x = x0; x < x1; ++x) {
+    const Axis ax = axis_at(float(x) + 0.5f, inv_size, grid.nx());
+    column_weight[size_t(x - x0)] = ax.a;
+    if (!runs.empty() && runs.back().ax.i0 == ax.i0 && runs.back().len < kLanes)
+      ++runs.back().len;
+    else
+      runs.push_back(Run{x - x0, 1, ax, {}, {}});
+  }
+  for (Run& run : runs) {
+    run.lanes = _mm256_cmp_ps(_mm256_setr_ps(0, 1, 2, 3, 4, 5, 6, 7), _mm256_set1_ps(float(run.len)), _CMP_LT_OQ);
+    run.valid = _mm256_castps_si256(run.lanes);
+  }
+  std::vector<RunStart> starts(runs.size());
+  const int nx = grid.nx(), nz = grid.nz();
+  for (int y = y0; y < y1; ++y) {
+    const Axis ay = axis_at(float(y) + 0.5f, inv_size, grid.ny());
+    const __m256 ay_a = _mm256_set1_ps(ay.a), ay_1 = _mm256_set1_ps(1 - ay.a);
+    const size_t row = size_t(y) * size_t(width) + size_t(x0);
+    if (y + kPrefetchRows < y1) {
+      const size_t ahead = row + size_t(kPrefetchRows) * size_t(width);
+      prefetch(distance.data() + ahead, n * sizeof(float));
+      prefetch(color.data() + ahead, n * sizeof(glm::vec3));
+    }
+    const IntegratedFroxel* row0 = volume.data() + size_t(ay.i0) * nx * nz;
+    const IntegratedFroxel* row1 = volume.data() + size_t(ay.i1) * nx * nz;
+    const float* row_distance = distance.data() + row;
+    for (size_t r = 0; r < runs.size(); ++r)
+      starts[r] = start_of(grid, _mm256_maskload_ps(row_distance + runs[r].x, runs[r].valid), runs[r].lanes);
+    for (size_t r = 0; r < runs.size(); ++r) {
+      const Run& run = runs[r];
+      if (!starts[r].fog) continue;
+      const __m256 a = _mm256_loadu_ps(&column_weight[size_t(run.x)]), a_1 = _mm256_sub_ps(_mm256_set1_ps(1.0f), a);
+      // weights_of's products, per lane.
+      const RunTaps taps{{row0 + size_t(run.ax.i0) * nz, row0 + size_t(run.ax.i1) * nz,
+                          row1 + size_t(run.ax.i0) * nz, row1 + size_t(run.ax.i1) * nz},
+                         {_mm256_mul_ps(a_1, ay_1), _mm256_mul_ps(a, ay_1), _mm256_mul_ps(a_1, ay_a),
+                          _mm256_mul_ps(a, ay_a)}};
+      composite_run(grid, taps, _mm256_maskload_ps(row_distance + run.x, run.valid), run.lanes, starts[r], run.len,
+                    color.data() + row + size_t(run.x));
+    }
+  }
 }
 
 }  // namespace cr

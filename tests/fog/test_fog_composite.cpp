@@ -1,7 +1,8 @@
 // composite_fog against its definition, lookup_fog per pixel: the same bits
 // for sky, geometry in every slice (boundaries, first and last slice
 // included), pixels at or in front of the near plane and without distance,
-// for tile rectangles and for rows wider than one band.
+// runs of only sky and of only such pixels, for tile rectangles and for rows
+// wider than one tile.
 #include <doctest/doctest.h>
 
 #include <cmath>
@@ -44,7 +45,10 @@ CompositeScene make_scene() {
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
       float d;
-      if (y % 3 == 0) {
+      const int run = (x + 4) / 8;  // the runs of a row (froxel centres at 8 i + 4)
+      if (y % 3 == 1 && run % 3 != 0) {
+        d = run % 3 == 1 ? inf : 0.0f;  // whole runs of sky and of no fog
+      } else if (y % 3 == 0) {
         d = g.near_distance() + 0.02f * float(x + 7 * y);  // a smooth surface: runs share slices
       } else {
         const int k = int(rng() % unsigned(g.nz()));
