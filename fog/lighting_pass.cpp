@@ -126,7 +126,10 @@ void light_froxels(const FroxelView& view, const std::vector<FogDensity>& densit
         const glm::vec2 center_px = g.column_center_px(x, y);
         const float hash = column_hash(x, y);
         for (const FroxelJitter& j : sample_jitter) {
-          const float u = std::fmod(hash + j.depth, 1.0f);
+          // fmod(x, 1) for x = hash + depth in [0, 2) without the libm call:
+          // x - 1 is exact there (Sterbenz), so the bits are fmod's.
+          const float wrapped = hash + j.depth;
+          const float u = wrapped >= 1.0f ? wrapped - 1.0f : wrapped;
           const glm::vec3 dir =
               cam.ray_direction(center_px.x + j.lateral.x * s, center_px.y + j.lateral.y * s, g.width(), g.height());
           float* t = scratch.t.data();
