@@ -125,7 +125,8 @@ void light_froxels(const FroxelView& view, const std::vector<FogDensity>& densit
         const float* medium = flat + 4 * lit.first;
         const glm::vec2 center_px = g.column_center_px(x, y);
         const float hash = column_hash(x, y);
-        for (const FroxelJitter& j : sample_jitter) {
+        for (size_t i = 0; i < sample_jitter.size(); ++i) {
+          const FroxelJitter& j = sample_jitter[i];
           // fmod(x, 1) for x = hash + depth in [0, 2) without the libm call:
           // x - 1 is exact there (Sterbenz), so the bits are fmod's.
           const float wrapped = hash + j.depth;
@@ -136,7 +137,7 @@ void light_froxels(const FroxelView& view, const std::vector<FogDensity>& densit
           float* vis = scratch.visibility.data();
           sample_points(medium, t0.data() + lit.first, dt.data() + lit.first, u, m, t);
           shadow.visibility(shadow.ray(glm::vec3(0.0f), dir), t, m, vis);
-          add_visibility(medium, vis, m, &j == sample_jitter.data(), out + lit.first);
+          add_visibility(medium, vis, m, i == 0, out + lit.first);
         }
         if (samples > 1)
           for (int k = 0; k < n; ++k) out[k] /= float(samples);
