@@ -10,11 +10,6 @@ namespace cr {
 
 namespace {
 
-// Lanes of v outside [0, last].
-__attribute__((target("avx2"))) inline __m256i outside_map(__m256i v, __m256i last) {
-  return _mm256_or_si256(_mm256_cmpgt_epi32(_mm256_setzero_si256(), v), _mm256_cmpgt_epi32(v, last));
-}
-
 // visibility(r, t[k]) for k < n, eight points at a time. The tap positions,
 // bilinear weights and range tests run in AVX2 lanes; each point's four taps
 // are two 8-byte loads (its rows y0 and y0 + 1, two taps each) packed two
@@ -32,7 +27,7 @@ __attribute__((target("avx2"))) void visibility_avx2(const VolumeShadow& shadow,
   const __m256 sx = _mm256_set1_ps(st.x), sy = _mm256_set1_ps(st.y), sz = _mm256_set1_ps(st.z);
   const __m256 s = _mm256_set1_ps(float(size)), minus_one = _mm256_set1_ps(-1.0f), one = _mm256_set1_ps(1.0f);
   const __m256 lo = _mm256_set1_ps(bias), hi = _mm256_set1_ps(1.0f + bias);
-  const __m256i last_origin = _mm256_set1_epi32(size - 2);  // a footprint's origin keeps all 4 taps on the map
+  const __m256 zero = _mm256_setzero_ps(), last_origin = _mm256_set1_ps(float(size - 2));
   const __m256i size_i = _mm256_set1_epi32(size);
   // 1 where the occluder is not nearer than the receiver, else 0.
   auto lit = [&](__m256 occluder, __m256 receiver) {
@@ -48,16 +43,16 @@ __attribute__((target("avx2"))) void visibility_avx2(const VolumeShadow& shadow,
     __m256 inside = _mm256_and_ps(_mm256_cmp_ps(tx, minus_one, _CMP_GE_OQ), _mm256_cmp_ps(ty, minus_one, _CMP_GE_OQ));
     inside = _mm256_and_ps(inside, _mm256_and_ps(_mm256_cmp_ps(tx, s, _CMP_LE_OQ), _mm256_cmp_ps(ty, s, _CMP_LE_OQ)));
     inside = _mm256_and_ps(inside, _mm256_and_ps(_mm256_cmp_ps(rc, lo, _CMP_GE_OQ), _mm256_cmp_ps(rc, hi, _CMP_LE_OQ)));
-    // Clamp before flooring so lanes outside stay in integer range.
-    const __m256 fx = _mm256_floor_ps(_mm256_min_ps(_mm256_max_ps(tx, minus_one), s));
-    const __m256 fy = _mm256_floor_ps(_mm256_min_ps(_mm256_max_ps(ty, minus_one), s));
+    const __m256 fx = _mm256_floor_ps(tx), fy = _mm256_floor_ps(ty);
     const __m256 ax = _mm256_sub_ps(tx, fx), ay = _mm256_sub_ps(ty, fy);
-    const __m256i x0 = _mm256_cvttps_epi32(fx), y0 = _mm256_cvttps_epi32(fy);
-    const __m256i crosses_edge = _mm256_or_si256(outside_map(x0, last_origin), outside_map(y0, last_origin));
-    const __m256 on_map = _mm256_andnot_ps(_mm256_castsi256_ps(crosses_edge), inside);  // all 4 taps read
-    const __m256 on_edge = _mm256_and_ps(_mm256_castsi256_ps(crosses_edge), inside);
+    // All four taps on the map: the footprint's origin in [0, size - 2]^2.
+    __m256 on_map = _mm256_and_ps(_mm256_cmp_ps(fx, zero, _CMP_GE_OQ), _mm256_cmp_ps(fx, last_origin, _CMP_LE_OQ));
+    on_map = _mm256_and_ps(on_map, _mm256_and_ps(_mm256_cmp_ps(fy, zero, _CMP_GE_OQ), _mm256_cmp_ps(fy, last_origin, _CMP_LE_OQ)));
+    on_map = _mm256_and_ps(on_map, inside);
+    const __m256 on_edge = _mm256_andnot_ps(on_map, inside);
     // Other points read texel 0 (in range; their result is replaced).
-    const __m256i read = _mm256_and_si256(_mm256_castps_si256(on_map), _mm256_add_epi32(_mm256_mullo_epi32(y0, size_i), x0));
+    const __m256i texel = _mm256_add_epi32(_mm256_mullo_epi32(_mm256_cvttps_epi32(fy), size_i), _mm256_cvttps_epi32(fx));
+    const __m256i read = _mm256_and_si256(_mm256_castps_si256(on_map), texel);
     _mm256_store_si256(reinterpret_cast<__m256i*>(origin), read);
     // Points (0,1,4,5) fill `even`, (2,3,6,7) `odd`, so one in-lane shuffle
     // puts each tap in point order.

@@ -1,5 +1,6 @@
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cstring>
 #include <vector>
 
@@ -100,4 +101,37 @@ TEST_CASE("light_froxels gives the bits of the per-froxel definition") {
     CHECK(shadowed > 0);
     CHECK(partial > 0);
   }
+}
+
+// The batched lookup at the map's border, where some of a point's 2x2 taps
+// are off the map (lit) and the rest on it: an opaque map, so every on-map
+// tap is shadowed and any tap read from the wrong texel changes the result.
+TEST_CASE("batched shadow lookups match single lookups across the map's border") {
+  const Camera cam = camera_at({-3, 2, 10}, {0, 2, -10}, 160, 90);
+  ShadowMap map = wall_shadow(cam, glm::vec3(0.6f, 0.4f, 0.3f));
+  std::fill(map.depth.begin(), map.depth.end(), 2.0f);  // beyond every receiver: occluded
+  const VolumeShadow shadow(map, cam.position);
+  const float s = float(map.size);
+  std::vector<float> t(77), batch(t.size()), single(t.size());
+  for (size_t k = 0; k < t.size(); ++k) t[k] = float(k) / float(t.size() - 1);
+  size_t partial = 0;
+  for (float across : {-0.7f, -0.2f, 0.3f, 0.9f, s - 1.6f, s - 1.2f, s - 0.6f, s - 0.1f}) {
+    for (int axis = 0; axis < 2; ++axis) {
+      // Along one texel axis from just outside the map (-1.5) to just past it (s + 0.5).
+      VolumeShadow::Ray ray;
+      ray.origin = axis == 0 ? glm::vec3(-1.5f, across, 0.5f) : glm::vec3(across, -1.5f, 0.5f);
+      ray.step = axis == 0 ? glm::vec3(s + 2.0f, 0.0f, 0.0f) : glm::vec3(0.0f, s + 2.0f, 0.0f);
+      for (int start : {0, 3}) {
+        const float* tk = t.data() + start;
+        const int n = int(t.size()) - start;
+        shadow.visibility(ray, tk, n, batch.data());
+        for (int k = 0; k < n; ++k) {
+          single[size_t(k)] = shadow.visibility(ray, tk[k]);
+          partial += single[size_t(k)] > 0.0f && single[size_t(k)] < 1.0f;
+        }
+        CHECK(std::memcmp(batch.data(), single.data(), size_t(n) * sizeof(float)) == 0);
+      }
+    }
+  }
+  CHECK(partial > 0);
 }
