@@ -105,6 +105,7 @@ void voxelize_rows(const FroxelView& view, const FogMedium& medium, const Densit
   const int samples = plan.samples;
   const float* centers = plan.centers.data();
   std::vector<const VolumeFootprint*> covering;
+  std::vector<FogDensity> sample_fog;  // height fog at the volume slices' stratified points
   for (int y = y0; y < y1; ++y)
     for (int x = 0; x < nx; ++x) {
       const size_t c = size_t(y) * nx + x;
@@ -121,11 +122,16 @@ void voxelize_rows(const FroxelView& view, const FogMedium& medium, const Densit
         k_begin = std::min(k_begin, f.k0);
         k_end = std::max(k_end, std::min(f.k1 + 1, n));
       }
+      if (samples > 1 && k_begin < k_end) {
+        sample_fog.resize(size_t(k_end - k_begin) * samples);
+        medium.height_fog_column(dir, plan.sample_t.data() + size_t(k_begin) * samples, (k_end - k_begin) * samples,
+                                 sample_fog.data());
+      }
       for (int k = k_begin; k < k_end; ++k) {
         FogDensity sum;
         for (int s = 0; s < samples; ++s) {
           const glm::vec3 p = dir * (samples == 1 ? centers[k] : plan.sample_t[size_t(k) * samples + size_t(s)]);
-          FogDensity d = samples == 1 ? column[k] : medium.height_fog(p);
+          FogDensity d = samples == 1 ? column[k] : sample_fog[size_t(k - k_begin) * samples + size_t(s)];
           for (const VolumeFootprint* f : covering)
             if (k >= f->k0 && k <= f->k1) medium.apply_volume(medium.volumes()[size_t(f->volume)], p, d);
           sum.scattering += d.scattering;

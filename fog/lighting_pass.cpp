@@ -11,12 +11,15 @@
 // transmittance with altitude) and integration applies it at the slice
 // centre, so the buffer the temporal passes carry is one float per froxel.
 //
-// A column runs as flat loops over its slices (sample offsets, the shadow
-// lookups with AVX2 gathers where the CPU has them, the sum) that vectorise;
-// only optically thick slices take the scalar log. Each froxel's arithmetic
-// is the same sequence of float operations as VolumeShadow::visibility and
-// importance_sample_offset, so the result does not depend on which path
-// runs.
+// A column runs as flat loops over its slices (sample offsets, the batched
+// shadow lookups, the sum) that vectorise; only optically thick slices take
+// the scalar log. Each froxel's arithmetic is the same sequence of float
+// operations as VolumeShadow::visibility and importance_sample_offset, so the
+// result does not depend on which path runs. Only the slices from the first
+// to the last that scatter are worked on: clear air (above the height fog,
+// outside volumes) gets 0 whatever its visibility, so it needs no sample
+// point and no shadow lookup. The jitter of each sample is the same for
+// every column and is taken once per frame.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -31,42 +34,57 @@ namespace {
 
 // Per-slice scratch of one job.
 struct ColumnScratch {
-  std::vector<float> offset, t, visibility;
-  explicit ColumnScratch(int nz) : offset(size_t(nz)), t(size_t(nz)), visibility(size_t(nz)) {}
+  std::vector<float> t, visibility;
+  explicit ColumnScratch(int nz) : t(size_t(nz)), visibility(size_t(nz)) {}
 };
 
 // FogDensity as flat floats (scattering RGB, extinction): the column loops
 // below read it as a 4-way interleave, which vectorises.
 static_assert(sizeof(FogDensity) == 4 * sizeof(float));
 
-// Importance-sampled offsets of slices [0, n): the thin-slice series of
-// importance_sample_offset for every slice (vectorised), then the exact log
-// form where a slice is optically thick (a >= 0.05), if any is.
-void sample_offsets(const float* __restrict density,
-                                                                        const float* __restrict dt, float u, int n,
-                                                                        float* __restrict offset) {
+// Importance-sampled points t0[k] + offset of slices [0, n): the thin-slice
+// series of importance_sample_offset for every slice (vectorised), then the
+// exact log form where a slice is optically thick (a >= 0.05), if any is.
+void sample_points(const float* __restrict density, const float* __restrict t0, const float* __restrict dt, float u,
+                   int n, float* __restrict t) {
   int thick = 0;
   for (int k = 0; k < n; ++k) {
     const float a = std::max(density[4 * k + 3], 1e-12f) * dt[k];
-    offset[k] = importance_sample_offset_thin(u, a, dt[k]);
+    t[k] = t0[k] + importance_sample_offset_thin(u, a, dt[k]);
     thick |= int(a >= 0.05f);
   }
   if (!thick) return;
   for (int k = 0; k < n; ++k) {
     const float sigma = std::max(density[4 * k + 3], 1e-12f);
-    if (sigma * dt[k] >= 0.05f) offset[k] = importance_sample_offset(u, sigma, dt[k]);
+    if (sigma * dt[k] >= 0.05f) t[k] = t0[k] + importance_sample_offset(u, sigma, dt[k]);
   }
 }
 
-// out[k] += visibility[k] where the froxel scatters; clear air keeps 0:
+// out[k] = prior + visibility[k] where the froxel scatters, prior 0 for the
+// first sample (the sum starts at 0) and out[k] after; clear air adds 0:
 // nothing multiplies its light.
-void add_visibility(const float* __restrict density,
-                                                                        const float* __restrict visibility, int n,
-                                                                        float* __restrict out) {
+void add_visibility(const float* __restrict density, const float* __restrict visibility, int n, bool first,
+                    float* __restrict out) {
   for (int k = 0; k < n; ++k) {
     const bool clear = (density[4 * k] == 0.0f) & (density[4 * k + 1] == 0.0f) & (density[4 * k + 2] == 0.0f);
-    out[k] += clear ? 0.0f : visibility[k];
+    const float prior = first ? 0.0f : out[k];
+    out[k] = prior + (clear ? 0.0f : visibility[k]);
   }
+}
+
+// [first, end) of the slices [0, n) that scatter (first == end: none).
+struct ScatteringRange {
+  int first = 0, end = 0;
+};
+ScatteringRange scattering_range(const float* density, int n) {
+  auto scatters = [&](int k) {
+    return density[4 * k] != 0.0f || density[4 * k + 1] != 0.0f || density[4 * k + 2] != 0.0f;
+  };
+  ScatteringRange r;
+  while (r.first < n && !scatters(r.first)) ++r.first;
+  r.end = n;
+  while (r.end > r.first && !scatters(r.end - 1)) --r.end;
+  return r;
 }
 
 }  // namespace
@@ -85,6 +103,11 @@ void light_froxels(const FroxelView& view, const std::vector<FogDensity>& densit
     dt[size_t(k)] = g.thickness(k);
   }
   const float s = float(g.froxel_size());
+  std::vector<FroxelJitter> sample_jitter(static_cast<size_t>(samples));
+  for (int i = 0; i < samples; ++i) {
+    if (jitter.enabled) sample_jitter[size_t(i)] = froxel_jitter(jitter.frame + i);
+    else if (samples > 1) sample_jitter[size_t(i)].depth = (float(i) + 0.5f) / float(samples);
+  }
   jobs.parallel_for("fog.lighting", size_t(g.ny()), 1, [&](size_t begin, size_t end) {
     ColumnScratch scratch(nz);
     if (before_rows) before_rows(int(begin), int(end));
@@ -93,24 +116,28 @@ void light_froxels(const FroxelView& view, const std::vector<FogDensity>& densit
         float* out = sun_visibility.data() + g.index(x, y, 0);
         const float* flat = reinterpret_cast<const float*>(density.data() + g.index(x, y, 0));
         const int n = view.lit_slices[size_t(y) * nx + x];
-        for (int k = 0; k < n; ++k) out[k] = 0.0f;
-        if (n == 0) continue;
+        const ScatteringRange lit = scattering_range(flat, n);
+        // Outside the range the froxels are clear air: 0.
+        for (int k = 0; k < lit.first; ++k) out[k] = 0.0f;
+        for (int k = lit.end; k < n; ++k) out[k] = 0.0f;
+        if (lit.first == lit.end) continue;
+        const int m = lit.end - lit.first;
+        const float* medium = flat + 4 * lit.first;
         const glm::vec2 center_px = g.column_center_px(x, y);
         const float hash = column_hash(x, y);
-        for (int i = 0; i < samples; ++i) {
-          FroxelJitter j;
-          if (jitter.enabled) j = froxel_jitter(jitter.frame + i);
-          else if (samples > 1) j.depth = (float(i) + 0.5f) / float(samples);
-          const float u = std::fmod(hash + j.depth, 1.0f);
+        for (size_t i = 0; i < sample_jitter.size(); ++i) {
+          const FroxelJitter& j = sample_jitter[i];
+          // fmod(x, 1) for x = hash + depth in [0, 2) without the libm call:
+          // x - 1 is exact there (Sterbenz), so the bits are fmod's.
+          const float wrapped = hash + j.depth;
+          const float u = wrapped >= 1.0f ? wrapped - 1.0f : wrapped;
           const glm::vec3 dir =
               cam.ray_direction(center_px.x + j.lateral.x * s, center_px.y + j.lateral.y * s, g.width(), g.height());
-          float* offset = scratch.offset.data();
-          float* vis = scratch.visibility.data();
-          sample_offsets(flat, dt.data(), u, n, offset);
           float* t = scratch.t.data();
-          for (int k = 0; k < n; ++k) t[k] = t0[size_t(k)] + offset[k];
-          shadow.visibility(shadow.ray(glm::vec3(0.0f), dir), t, n, vis);
-          add_visibility(flat, vis, n, out);
+          float* vis = scratch.visibility.data();
+          sample_points(medium, t0.data() + lit.first, dt.data() + lit.first, u, m, t);
+          shadow.visibility(shadow.ray(glm::vec3(0.0f), dir), t, m, vis);
+          add_visibility(medium, vis, m, i == 0, out + lit.first);
         }
         if (samples > 1)
           for (int k = 0; k < n; ++k) out[k] /= float(samples);

@@ -27,8 +27,8 @@ class VolumeShadow {
   // Fraction of the sun visible at origin + t * direction (1 = lit). Inline:
   // it runs once per lit froxel.
   float visibility(const Ray& r, float t) const;
-  // visibility(r, t[k]) for k < n, with AVX2 gathers where the CPU has them
-  // (the same bits as the one-point lookup).
+  // visibility(r, t[k]) for k < n, eight points at a time where the CPU has
+  // AVX2 (the same bits as the one-point lookup).
   void visibility(const Ray& r, const float* t, int n, float* out) const;
   bool empty() const { return size_ <= 0; }
 
