@@ -17,9 +17,13 @@ FroxelView make_froxel_view(const FroxelGrid& grid, const Camera& camera, JobSys
   v.active_slices.assign(grid.columns(), uint16_t(grid.nz()));
   v.lit_slices.assign(grid.columns(), uint16_t(grid.nz()));
   const int nx = grid.nx();
+  const PixelRays rays(camera, grid.width(), grid.height());
   jobs.parallel_for("fog.columns", size_t(grid.ny()), 8, [&](size_t begin, size_t end) {
     for (size_t y = begin; y < end; ++y)
-      for (int x = 0; x < nx; ++x) v.directions[y * size_t(nx) + size_t(x)] = grid.column_direction(camera, x, int(y));
+      for (int x = 0; x < nx; ++x) {
+        const glm::vec2 p = grid.column_center_px(x, int(y));
+        v.directions[y * size_t(nx) + size_t(x)] = rays.direction(p.x, p.y);
+      }
   });
   return v;
 }

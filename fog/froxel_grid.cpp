@@ -51,10 +51,6 @@ glm::vec2 FroxelGrid::column_center_px(int x, int y) const {
   return glm::vec2((float(x) + 0.5f) * float(size_px_), (float(y) + 0.5f) * float(size_px_));
 }
 
-glm::vec3 FroxelGrid::column_direction(const Camera& camera, int x, int y) const {
-  const glm::vec2 p = column_center_px(x, y);
-  return camera.ray_direction(p.x, p.y, width_, height_);
-}
 
 bool FroxelGrid::same_layout(const FroxelGrid& o) const {
   return width_ == o.width_ && height_ == o.height_ && size_px_ == o.size_px_ && nz_ == o.nz_ &&

@@ -16,7 +16,6 @@
 
 #include <glm/glm.hpp>
 
-#include "engine/scene/camera.h"
 
 namespace cr {
 
@@ -71,8 +70,6 @@ class FroxelGrid {
 
   // Screen pixel coordinate (continuous, pixel centres at +0.5) of a froxel column centre.
   glm::vec2 column_center_px(int x, int y) const;
-  // Unit world direction of a column's centre ray for a camera.
-  glm::vec3 column_direction(const Camera& camera, int x, int y) const;
   bool same_layout(const FroxelGrid& o) const;
 
  private:

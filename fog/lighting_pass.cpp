@@ -93,7 +93,7 @@ void light_froxels(const FroxelView& view, const std::vector<FogDensity>& densit
                    const JitterInputs& jitter, JobSystem& jobs, std::vector<float>& sun_visibility,
                    const std::function<void(int y0, int y1)>& before_rows) {
   const FroxelGrid& g = view.grid;
-  const Camera& cam = view.camera;
+  const PixelRays rays(view.camera, g.width(), g.height());
   sun_visibility.resize(g.count());
   const int nx = g.nx(), nz = g.nz();
   const int samples = std::max(jitter.samples, 1);
@@ -131,8 +131,7 @@ void light_froxels(const FroxelView& view, const std::vector<FogDensity>& densit
           // x - 1 is exact there (Sterbenz), so the bits are fmod's.
           const float wrapped = hash + j.depth;
           const float u = wrapped >= 1.0f ? wrapped - 1.0f : wrapped;
-          const glm::vec3 dir =
-              cam.ray_direction(center_px.x + j.lateral.x * s, center_px.y + j.lateral.y * s, g.width(), g.height());
+          const glm::vec3 dir = rays.direction(center_px.x + j.lateral.x * s, center_px.y + j.lateral.y * s);
           float* t = scratch.t.data();
           float* vis = scratch.visibility.data();
           sample_points(medium, t0.data() + lit.first, dt.data() + lit.first, u, m, t);

@@ -41,10 +41,16 @@ glm::mat4 Camera::projection() const {
 }
 
 glm::vec3 Camera::ray_direction(float px, float py, int width, int height) const {
-  const float t = std::tan(0.5f * vfov_rad);
-  const float sx = (2.0f * px / float(width) - 1.0f) * t * aspect;
-  const float sy = (1.0f - 2.0f * py / float(height)) * t;
-  return glm::normalize(forward + sx * right + sy * up);
+  return PixelRays(*this, width, height).direction(px, py);
 }
+
+PixelRays::PixelRays(const Camera& camera, int width, int height)
+    : forward_(camera.forward),
+      right_(camera.right),
+      up_(camera.up),
+      tan_half_y_(std::tan(0.5f * camera.vfov_rad)),
+      aspect_(camera.aspect),
+      width_(float(width)),
+      height_(float(height)) {}
 
 }  // namespace cr

@@ -27,4 +27,20 @@ struct Camera {
   glm::vec3 ray_direction(float px, float py, int width, int height) const;
 };
 
+// Camera::ray_direction for many pixels of one image: the projection's
+// tangent is computed once instead of per ray (same operations, same bits).
+class PixelRays {
+ public:
+  PixelRays(const Camera& camera, int width, int height);
+  glm::vec3 direction(float px, float py) const {
+    const float sx = (2.0f * px / width_ - 1.0f) * tan_half_y_ * aspect_;
+    const float sy = (1.0f - 2.0f * py / height_) * tan_half_y_;
+    return glm::normalize(forward_ + sx * right_ + sy * up_);
+  }
+
+ private:
+  glm::vec3 forward_, right_, up_;
+  float tan_half_y_, aspect_, width_, height_;
+};
+
 }  // namespace cr
