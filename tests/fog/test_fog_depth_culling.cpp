@@ -2,7 +2,9 @@
 // can read them are skipped, and the image does not change.
 #include <doctest/doctest.h>
 
+#include <cmath>
 #include <cstring>
+#include <random>
 
 #include "fog_test_scene.h"
 
@@ -40,7 +42,64 @@ FogSceneSettings scene() {
   return s;
 }
 
+// The culling's definition, pixel by pixel: a tile needs the slices up to
+// its farthest pixel (NaN skipped, none at or before the near plane); a
+// column's active slices are the most its 3x3 tiles need, its lit slices the
+// most its 3x3 columns' active slices reach (clamped at the edges).
+void cull_by_definition(const FroxelGrid& g, const std::vector<float>& distance, std::vector<uint16_t>& active,
+                        std::vector<uint16_t>& lit) {
+  const int nx = g.nx(), ny = g.ny(), s = g.froxel_size();
+  std::vector<uint16_t> needed(g.columns(), 0);
+  for (int y = 0; y < g.height(); ++y)
+    for (int x = 0; x < g.width(); ++x) {
+      const float d = distance[size_t(y) * g.width() + x];
+      if (!(d > g.near_distance())) continue;
+      uint16_t& n = needed[size_t(y / s) * nx + x / s];
+      n = std::max(n, uint16_t(g.slice_of(d) + 1));
+    }
+  const auto dilate = [&](const std::vector<uint16_t>& in) {
+    std::vector<uint16_t> out(in.size(), 0);
+    for (int y = 0; y < ny; ++y)
+      for (int x = 0; x < nx; ++x)
+        for (int yy = std::max(y - 1, 0); yy <= std::min(y + 1, ny - 1); ++yy)
+          for (int xx = std::max(x - 1, 0); xx <= std::min(x + 1, nx - 1); ++xx)
+            out[size_t(y) * nx + x] = std::max(out[size_t(y) * nx + x], in[size_t(yy) * nx + xx]);
+    return out;
+  };
+  active = dilate(needed);
+  lit = dilate(active);
+}
+
 }  // namespace
+
+TEST_CASE("depth culling matches its definition (partial tiles, sky, NaN, signed zeros, any thread count)") {
+  const Camera cam = camera_at({0, 3, 10}, {1, 2, -10}, kW, kH);
+  // Sizes that leave partial tiles on the right and bottom edges, and a single column of tiles.
+  const int sizes[][3] = {{101, 45, 8}, {37, 29, 4}, {6, 21, 8}, {23, 1, 3}};
+  std::mt19937 rng(7);
+  for (const auto& size : sizes) {
+    const int w = size[0], h = size[1];
+    const FroxelGrid grid(w, h, size[2], 24, 0.5f, 40.0f, 0.3f);
+    std::vector<float> distance(size_t(w) * h);
+    for (float& d : distance) {
+      const float pick = std::uniform_real_distribution<float>(0.0f, 1.0f)(rng);
+      d = pick < 0.05f ? NAN : pick < 0.1f ? INFINITY : pick < 0.13f ? -0.0f : pick < 0.16f ? 0.0f
+          : pick < 0.2f ? -3.0f : pick < 0.25f ? 60.0f : std::uniform_real_distribution<float>(0.0f, 12.0f)(rng);
+    }
+    // Regions of near surfaces, so the dilation has edges to spread.
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w / 3; ++x) distance[size_t(y) * w + x] = 0.25f + 0.01f * float(x);
+    std::vector<uint16_t> active, lit;
+    cull_by_definition(grid, distance, active, lit);
+    for (unsigned threads : {1u, 3u}) {
+      JobSystem jobs(threads);
+      FroxelView view = make_froxel_view(grid, cam, jobs);
+      cull_froxels_by_depth(view, distance, jobs);
+      CHECK(view.active_slices == active);
+      CHECK(view.lit_slices == lit);
+    }
+  }
+}
 
 TEST_CASE("depth culling skips hidden froxels and leaves the image bit-identical") {
   JobSystem jobs(2);
