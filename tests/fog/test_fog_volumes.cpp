@@ -1,5 +1,7 @@
 #include <doctest/doctest.h>
 
+#include <cstring>
+
 #include "fog/fog_medium.h"
 #include "fog_test_scene.h"
 
@@ -177,4 +179,30 @@ TEST_CASE("volume shadow lookup agrees with ShadowMap::visibility without PCF") 
   }
   CHECK(lit > 100);
   CHECK(shadowed > 100);
+}
+
+TEST_CASE("froxel view: column directions are PixelRays' bits at the column centres, for any thread count") {
+  const int sizes[][3] = {{1280, 720, 8}, {101, 45, 8}, {37, 29, 4}, {6, 21, 8}};
+  const glm::dvec3 targets[] = {{1, 2, -10}, {-30, -8, 4}, {0.2, 40, 0.1}, {5, 3.1, 10.5}};
+  for (const auto& size : sizes)
+    for (const glm::dvec3& target : targets) {
+      const int w = size[0], h = size[1];
+      const Camera cam = camera_at({0, 3, 10}, target, w, h, 35.0f + float(w % 50));
+      const FroxelGrid grid(w, h, size[2], 16, cam.znear, 40.0f, 0.3f);
+      const PixelRays rays(cam, w, h);
+      for (unsigned threads : {1u, 3u}) {
+        JobSystem jobs(threads);
+        const FroxelView view = make_froxel_view(grid, cam, jobs);
+        size_t mismatched = 0;
+        for (int y = 0; y < grid.ny(); ++y)
+          for (int x = 0; x < grid.nx(); ++x) {
+            const glm::vec2 p = grid.column_center_px(x, y);
+            const glm::vec3 d = rays.direction(p.x, p.y), got = view.directions[size_t(y) * grid.nx() + x];
+            mismatched += std::memcmp(&d, &got, sizeof(d)) != 0;
+          }
+        CHECK(mismatched == 0);
+        CHECK(view.active_slices == std::vector<uint16_t>(grid.columns(), uint16_t(grid.nz())));
+        CHECK(view.lit_slices == view.active_slices);
+      }
+    }
 }
