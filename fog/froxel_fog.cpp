@@ -8,6 +8,9 @@ FroxelFog::FroxelFog(const FogProfileSettings& profile, const FogSceneSettings& 
 void FroxelFog::begin_frame(const FrameView& view, JobSystem& jobs, const std::vector<float>* distance) {
   const FroxelGrid grid(view.width, view.height, profile_.froxel_size_px, profile_.slices, view.camera.znear,
                         profile_.fog_distance, profile_.slice_uniformity);
+  // The last view's buffers are freed first, so the new view reuses that
+  // memory instead of growing the heap (page faults every other frame).
+  view_ = FroxelView{};
   view_ = make_froxel_view(grid, view.camera, jobs);
   if (distance) cull_froxels_by_depth(view_, *distance, jobs);
   medium_.set_camera(view.camera.position);
