@@ -16,26 +16,17 @@ FroxelView make_froxel_view(const FroxelGrid& grid, const Camera& camera, JobSys
   v.directions.resize(grid.columns());
   v.active_slices.assign(grid.columns(), uint16_t(grid.nz()));
   v.lit_slices.assign(grid.columns(), uint16_t(grid.nz()));
-  // PixelRays::direction at each column centre, its operations restated per
-  // row (the x term from a table) so the loop vectorises: the same operations
-  // in the same order, so the same bits (a test holds them to PixelRays).
+  // PixelRays::direction at each column centre, with the x term from a
+  // per-column table (the same operations, so the same bits).
   const int nx = grid.nx();
-  const float tan_y = std::tan(0.5f * camera.vfov_rad);
-  const float width = float(grid.width()), height = float(grid.height());
+  const PixelRays rays(camera, grid.width(), grid.height());
   std::vector<float> screen_x(static_cast<size_t>(nx));
-  for (int x = 0; x < nx; ++x)
-    screen_x[size_t(x)] = (2.0f * grid.column_center_px(x, 0).x / width - 1.0f) * tan_y * camera.aspect;
-  const glm::vec3 f = camera.forward, r = camera.right, u = camera.up;
+  for (int x = 0; x < nx; ++x) screen_x[size_t(x)] = rays.screen_x(grid.column_center_px(x, 0).x);
   jobs.parallel_for("fog.columns", size_t(grid.ny()), 8, [&](size_t begin, size_t end) {
     for (size_t y = begin; y < end; ++y) {
-      const float sy = (1.0f - 2.0f * grid.column_center_px(0, int(y)).y / height) * tan_y;
+      const float sy = rays.screen_y(grid.column_center_px(0, int(y)).y);
       glm::vec3* out = v.directions.data() + y * size_t(nx);
-      for (int x = 0; x < nx; ++x) {
-        const float sx = screen_x[size_t(x)];
-        const float dx = f.x + sx * r.x + sy * u.x, dy = f.y + sx * r.y + sy * u.y, dz = f.z + sx * r.z + sy * u.z;
-        const float inv = 1.0f / std::sqrt(dx * dx + dy * dy + dz * dz);
-        out[x] = glm::vec3(dx * inv, dy * inv, dz * inv);
-      }
+      for (int x = 0; x < nx; ++x) out[x] = rays.through(screen_x[size_t(x)], sy);
     }
   });
   return v;

@@ -4,6 +4,8 @@
 // Projection is reversed-Z with an infinite far plane: NDC depth = znear / view
 // depth, so 1 at the near plane and 0 at infinity; float32 keeps ~7 significant
 // digits of relative depth precision over the whole range (no far clip needed).
+#include <cmath>
+
 #include <glm/glm.hpp>
 
 namespace cr {
@@ -32,10 +34,19 @@ struct Camera {
 class PixelRays {
  public:
   PixelRays(const Camera& camera, int width, int height);
-  glm::vec3 direction(float px, float py) const {
-    const float sx = (2.0f * px / width_ - 1.0f) * tan_half_y_ * aspect_;
-    const float sy = (1.0f - 2.0f * py / height_) * tan_half_y_;
-    return glm::normalize(forward_ + sx * right_ + sy * up_);
+  glm::vec3 direction(float px, float py) const { return through(screen_x(px), screen_y(py)); }
+  // The steps of direction(), for loops that reuse a row's or column's term:
+  // the image-plane coordinates of a pixel (at unit distance) and the unit
+  // ray through them (glm::normalize's operations, spelled out so loops over
+  // a row vectorise).
+  float screen_x(float px) const { return (2.0f * px / width_ - 1.0f) * tan_half_y_ * aspect_; }
+  float screen_y(float py) const { return (1.0f - 2.0f * py / height_) * tan_half_y_; }
+  glm::vec3 through(float sx, float sy) const {
+    const float x = forward_.x + sx * right_.x + sy * up_.x;
+    const float y = forward_.y + sx * right_.y + sy * up_.y;
+    const float z = forward_.z + sx * right_.z + sy * up_.z;
+    const float inv = 1.0f / std::sqrt(x * x + y * y + z * z);
+    return glm::vec3(x * inv, y * inv, z * inv);
   }
 
  private:
