@@ -144,6 +144,7 @@ void resolve_slices(SliceBatch& b, size_t n) {
   slice_fractions(n, b.sigma.data(), b.s.data(), b.dt.data(), b.fraction.data(), b.partial.data());
 }
 
+#ifdef __AVX2__
 // ---- composite_fog: runs of 8 pixels that share their 2x2 columns ----
 
 constexpr int kLanes = 8;
@@ -338,6 +339,7 @@ void prefetch(const void* begin, size_t bytes) {
   for (size_t o = 0; o < bytes; o += 64) _mm_prefetch(p + o, _MM_HINT_T0);
   _mm_prefetch(p + bytes - 1, _MM_HINT_T0);
 }
+#endif  // __AVX2__
 
 }  // namespace
 
@@ -365,6 +367,18 @@ void composite_fog(const FroxelGrid& grid, const std::vector<IntegratedFroxel>& 
                    const std::vector<float>& distance, std::vector<glm::vec3>& color, int width, int x0, int y0,
                    int x1, int y1) {
   if (x1 <= x0 || y1 <= y0) return;
+#ifndef __AVX2__
+  // Builds for CPUs without AVX2 (CR_ARCH x86-64-v2): the definition, one pixel at a time.
+  for (int y = y0; y < y1; ++y)
+    for (int x = x0; x < x1; ++x) {
+      const size_t i = size_t(y) * size_t(width) + size_t(x);
+      if (!(distance[i] > grid.near_distance())) continue;
+      glm::vec3 in_scatter;
+      float transmittance;
+      lookup_fog(grid, volume, float(x) + 0.5f, float(y) + 0.5f, distance[i], in_scatter, transmittance);
+      color[i] = color[i] * transmittance + in_scatter;
+    }
+#else
   const float inv_size = 1.0f / float(grid.froxel_size());
   const size_t n = size_t(x1 - x0);
   // Runs: consecutive pixels with the same columns, at most kLanes each.
@@ -417,6 +431,7 @@ void composite_fog(const FroxelGrid& grid, const std::vector<IntegratedFroxel>& 
                     color.data() + row + size_t(run.x));
     }
   }
+#endif
 }
 
 }  // namespace cr
