@@ -52,17 +52,14 @@ Axis axis_at(float p, float inv_size, int n) {
   return ax;
 }
 
-// Pixels inside the grid, between the bilinear reads and the in-slice
-// closed form: per pixel the near boundary's (radiance RGB, transmittance)
-// and the far boundary's radiance as 4-float records (a froxel's first four
-// floats, so each bilinear tap is one 4-wide load and multiply-add), and as
-// flat arrays the slice's extinction, the distance into the slice and its
-// length. The closed form's fraction and partial opacity go to `fraction`
-// and `partial`.
-struct SliceBatch {
-  std::vector<float> near, far;  // 4 floats per slot
-  std::vector<float> sigma, s, dt, fraction, partial;
-  explicit SliceBatch(size_t n) : near(4 * n), far(4 * n), sigma(n), s(n), dt(n), fraction(n), partial(n) {}
+// A pixel inside the grid, between the bilinear reads and the in-slice
+// closed form: the near boundary's (radiance RGB, transmittance) and the far
+// boundary's radiance as 4-float records (a froxel's first four floats, so
+// each bilinear tap is one 4-wide load and multiply-add), the slice's
+// extinction, the distance into the slice and its length.
+struct PixelSlice {
+  __m128 near, far;
+  float sigma, s, dt;
 };
 static_assert(offsetof(IntegratedFroxel, in_scatter) == 0 && offsetof(IntegratedFroxel, transmittance) == 12,
               "a froxel's radiance and transmittance are its first four floats");
@@ -89,28 +86,22 @@ __m128 lookup_far(const FroxelGrid& g, const IntegratedFroxel* volume, const Wei
   return sum;
 }
 
-// The bilinear reads of a pixel inside the grid into slot j of the batch.
-// Lane-wise the same float operations, in the same order, as a sum over the
-// four taps per channel. In the first slice the near boundary is the near
-// plane: no radiance, transmittance 1.
-void gather_slice(const FroxelGrid& g, const IntegratedFroxel* volume, const Weights& wt, float distance,
-                  SliceBatch& b, size_t j) {
+// The bilinear reads of a pixel inside the grid. Lane-wise the same float
+// operations, in the same order, as a sum over the four taps per channel. In
+// the first slice the near boundary is the near plane: no radiance,
+// transmittance 1.
+PixelSlice gather_slice(const FroxelGrid& g, const IntegratedFroxel* volume, const Weights& wt, float distance) {
   const int k = g.slice_of(distance);
-  __m128 near = _mm_setzero_ps(), far = _mm_setzero_ps();
-  float sigma = 0.0f;
+  PixelSlice p{_mm_setzero_ps(), _mm_setzero_ps(), 0.0f, std::max(distance - g.boundary(k), 0.0f), g.thickness(k)};
   const __m128 near_plane = _mm_set_ps(1.0f, 0.0f, 0.0f, 0.0f);
   for (int i = 0; i < 4; ++i) {
     const IntegratedFroxel* c = volume + wt.at[i] + size_t(k);
     const __m128 w = _mm_set1_ps(wt.w[i]);
-    far = _mm_add_ps(far, _mm_mul_ps(_mm_loadu_ps(&c->in_scatter.x), w));
-    sigma += c->extinction * wt.w[i];
-    near = _mm_add_ps(near, _mm_mul_ps(k > 0 ? _mm_loadu_ps(&c[-1].in_scatter.x) : near_plane, w));
+    p.far = _mm_add_ps(p.far, _mm_mul_ps(_mm_loadu_ps(&c->in_scatter.x), w));
+    p.sigma += c->extinction * wt.w[i];
+    p.near = _mm_add_ps(p.near, _mm_mul_ps(k > 0 ? _mm_loadu_ps(&c[-1].in_scatter.x) : near_plane, w));
   }
-  _mm_storeu_ps(&b.near[4 * j], near);
-  _mm_storeu_ps(&b.far[4 * j], far);
-  b.sigma[j] = sigma;
-  b.s[j] = std::max(distance - g.boundary(k), 0.0f);
-  b.dt[j] = g.thickness(k);
+  return p;
 }
 
 // The in-slice closed form's terms for slots [0, n) (branch-free: both
@@ -130,18 +121,14 @@ void slice_fractions(size_t n, const float* __restrict sigma, const float* __res
   }
 }
 
-// Slot j's in-scattered radiance (lanes 0-2) and transmittance (lane 3):
+// The pixel's in-scattered radiance (lanes 0-2) and transmittance (lane 3):
 // near + (far - near) * fraction and T_near (1 - partial).
-inline __m128 resolve_slot(const SliceBatch& b, size_t j) {
-  const __m128 near = _mm_loadu_ps(&b.near[4 * j]);
-  const __m128 far = _mm_loadu_ps(&b.far[4 * j]);
-  const __m128 l = _mm_add_ps(near, _mm_mul_ps(_mm_sub_ps(far, near), _mm_set1_ps(b.fraction[j])));
-  const __m128 t = _mm_mul_ps(near, _mm_set1_ps(1.0f - b.partial[j]));
+__m128 resolve_pixel(const PixelSlice& p) {
+  float fraction, partial;
+  slice_fractions(1, &p.sigma, &p.s, &p.dt, &fraction, &partial);
+  const __m128 l = _mm_add_ps(p.near, _mm_mul_ps(_mm_sub_ps(p.far, p.near), _mm_set1_ps(fraction)));
+  const __m128 t = _mm_mul_ps(p.near, _mm_set1_ps(1.0f - partial));
   return _mm_blend_ps(l, t, 0x8);
-}
-
-void resolve_slices(SliceBatch& b, size_t n) {
-  slice_fractions(n, b.sigma.data(), b.s.data(), b.dt.data(), b.fraction.data(), b.partial.data());
 }
 
 #ifdef __AVX2__
@@ -194,7 +181,7 @@ float nearest(__m256 d, __m256 mask) {
 }
 
 // Radiance RGB (c[0..2]) and transmittance (c[3]) of the `inside` lanes of a
-// run at distance d: resolve_slot's float operations on gather_slice's sums.
+// run at distance d: resolve_pixel's float operations on gather_slice's sums.
 // Each visit's slice holds the nearest inside lane not yet reached; lanes at
 // or beyond its near boundary take it, so each lane ends with its own slice
 // (slice_of is exact against the boundaries, which increase). The first
@@ -354,10 +341,7 @@ void lookup_fog(const FroxelGrid& g, const std::vector<IntegratedFroxel>& volume
   if (distance >= g.far_distance()) {
     _mm_store_ps(v, lookup_far(g, volume.data(), wt));
   } else {
-    SliceBatch b(1);
-    gather_slice(g, volume.data(), wt, distance, b, 0);
-    resolve_slices(b, 1);
-    _mm_store_ps(v, resolve_slot(b, 0));
+    _mm_store_ps(v, resolve_pixel(gather_slice(g, volume.data(), wt, distance)));
   }
   in_scatter = glm::vec3(v[0], v[1], v[2]);
   transmittance = v[3];

@@ -42,6 +42,12 @@ struct ColumnScratch {
 // below read it as a 4-way interleave, which vectorises.
 static_assert(sizeof(FogDensity) == 4 * sizeof(float));
 
+// Whether froxel k of a flat density column scatters (clear air does not:
+// nothing multiplies its light).
+inline bool scatters(const float* density, int k) {
+  return (density[4 * k] != 0.0f) | (density[4 * k + 1] != 0.0f) | (density[4 * k + 2] != 0.0f);
+}
+
 // Importance-sampled points t0[k] + offset of slices [0, n): the thin-slice
 // series of importance_sample_offset for every slice (vectorised), then the
 // exact log form where a slice is optically thick (a >= 0.05), if any is.
@@ -66,9 +72,8 @@ void sample_points(const float* __restrict density, const float* __restrict t0, 
 void add_visibility(const float* __restrict density, const float* __restrict visibility, int n, bool first,
                     float* __restrict out) {
   for (int k = 0; k < n; ++k) {
-    const bool clear = (density[4 * k] == 0.0f) & (density[4 * k + 1] == 0.0f) & (density[4 * k + 2] == 0.0f);
     const float prior = first ? 0.0f : out[k];
-    out[k] = prior + (clear ? 0.0f : visibility[k]);
+    out[k] = prior + (scatters(density, k) ? visibility[k] : 0.0f);
   }
 }
 
@@ -77,13 +82,10 @@ struct ScatteringRange {
   int first = 0, end = 0;
 };
 ScatteringRange scattering_range(const float* density, int n) {
-  auto scatters = [&](int k) {
-    return density[4 * k] != 0.0f || density[4 * k + 1] != 0.0f || density[4 * k + 2] != 0.0f;
-  };
   ScatteringRange r;
-  while (r.first < n && !scatters(r.first)) ++r.first;
+  while (r.first < n && !scatters(density, r.first)) ++r.first;
   r.end = n;
-  while (r.end > r.first && !scatters(r.end - 1)) --r.end;
+  while (r.end > r.first && !scatters(density, r.end - 1)) --r.end;
   return r;
 }
 
