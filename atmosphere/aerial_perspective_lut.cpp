@@ -72,7 +72,7 @@ void AerialPerspectiveLut::bake(size_t begin, size_t end, const AtmosphereLuts& 
     const float mie_phase_value = mie_phase(m, nu);  // constant along the column
     // The whole column's medium and each slice's scattering at once, then the slices front to back.
     march_media(m, h_start, mu, floor_altitude, column);
-    shade_runs(luts, column, h_start, mu_s, nu, size_t(steps_per_slice_), shaded.data(), slice_transmittance.data());
+    shade_runs(luts, column, h_start, mu, mu_s, nu, size_t(steps_per_slice_), shaded.data(), slice_transmittance.data());
     glm::vec3 l(0.0f), t(1.0f);
     for (int s = 0; s < depth; ++s) {
       l += t * shaded[size_t(s)].total(mie_phase_value);

@@ -25,7 +25,9 @@ AtmosphereSettings parse_atmosphere_settings(const nlohmann::json& section, cons
   t.finish();
 
   ConfigFields ms = f.object("multiscattering_lut");
-  s.multiscattering_size = ms.integer("size", s.multiscattering_size, 4, 1024);
+  s.multiscattering_width = ms.integer("width", s.multiscattering_width, 4, 1024);
+  s.multiscattering_height = ms.integer("height", s.multiscattering_height, 4, 1024);
+  s.multiscattering_explicit_orders = ms.integer("explicit_orders", s.multiscattering_explicit_orders, 0, 8);
   s.multiscattering_directions = ms.integer("directions", s.multiscattering_directions, 4, 4096);
   s.multiscattering_steps = ms.integer("steps", s.multiscattering_steps, 1, 4096);
   s.multiscattering_max_fms = float(ms.number("max_fms", s.multiscattering_max_fms, 0.0, 0.999));

@@ -23,7 +23,9 @@ struct AtmosphereSettings {
   int transmittance_height = 64;
   int transmittance_steps = 40;
 
-  int multiscattering_size = 32;
+  int multiscattering_width = 64;   // sun zenith axis (Psi falls steeply into Earth's shadow)
+  int multiscattering_height = 32;  // altitude axis
+  int multiscattering_explicit_orders = 1;  // orders above the second marched before the series
   int multiscattering_directions = 64;  // n*n stratified directions, n even
   int multiscattering_steps = 20;
   float multiscattering_max_fms = 0.95f;  // clamp of the series ratio: 1/(1 - f_ms) <= 20

@@ -18,6 +18,7 @@ inline Float4 load4(const float* p) {
 }
 
 inline Float4 splat4(float x) { return Float4{x, x, x, x}; }
+inline Float4 max4(const Float4& a, const Float4& b) { return a > b ? a : b; }  // lane-wise, as glm::max
 inline Float4 to_float4(const glm::vec3& v) { return Float4{v.x, v.y, v.z, 0.0f}; }
 inline glm::vec3 to_vec3(const Float4& v) { return glm::vec3(v[0], v[1], v[2]); }
 

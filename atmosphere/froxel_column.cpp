@@ -13,24 +13,27 @@ namespace {
 // Lookup coordinates of every step, one array per quantity, one thread's.
 struct StepCoordinates {
   std::vector<int> t_x0, t_x1, t_y0, t_y1, ms_x0, ms_x1, ms_y0, ms_y1;
-  std::vector<float> t_w, t_wy, visible, ms_w, ms_wy;
+  std::vector<float> t_w, t_wy, visible, ms_w, ms_wy, q_xx, q_yy, q_xy, v_x, v_y;
   void resize(size_t n) {
     for (auto* v : {&t_x0, &t_x1, &t_y0, &t_y1, &ms_x0, &ms_x1, &ms_y0, &ms_y1}) v->resize(n);
-    for (auto* v : {&t_w, &t_wy, &visible, &ms_w, &ms_wy}) v->resize(n);
+    for (auto* v : {&t_w, &t_wy, &visible, &ms_w, &ms_wy, &q_xx, &q_yy, &q_xy, &v_x, &v_y}) v->resize(n);
   }
 };
 
 // accumulate()'s per-step row, radius and multiple-scattering row, and
 // sample_coordinate(), for n steps at once. Restrict pointers, selects and
 // no call: it vectorizes; out of line so that GCC keeps the restricts.
-__attribute__((noinline)) void step_coordinates(const AtmosphereLuts& luts, float r0_mu_s, float nu, size_t n,
+__attribute__((noinline)) void step_coordinates(const AtmosphereLuts& luts, float r0_mu, float r0_mu_s, float nu,
+                                                size_t n,
                                                 const float* __restrict t, const float* __restrict h,
                                                 int* __restrict t_x0, int* __restrict t_x1, float* __restrict t_w,
                                                 int* __restrict t_y0, int* __restrict t_y1, float* __restrict t_wy,
                                                 float* __restrict visible, int* __restrict ms_x0,
                                                 int* __restrict ms_x1, float* __restrict ms_w,
                                                 int* __restrict ms_y0, int* __restrict ms_y1,
-                                                float* __restrict ms_wy) {
+                                                float* __restrict ms_wy, float* __restrict q_xx,
+                                                float* __restrict q_yy, float* __restrict q_xy,
+                                                float* __restrict v_x, float* __restrict v_y) {
   const float R = float(luts.model.bottom_radius);
   const float top = float(luts.model.atmosphere_height());
   const int ms_width = luts.multiscattering.image().width, ms_height = luts.multiscattering.image().height;
@@ -46,22 +49,29 @@ __attribute__((noinline)) void step_coordinates(const AtmosphereLuts& luts, floa
     ms_y0[k] = ms_y.i0;
     ms_y1[k] = ms_y.i1;
     ms_wy[k] = ms_y.w;
-    sample_coordinate(row, t_width, ms_width, r0_mu_s, t[k], inv_r, nu, t_x0[k], t_x1[k], t_w[k],
-                      visible[k], ms_x0[k], ms_x1[k], ms_w[k]);
+    MsView view;
+    sample_coordinate(row, t_width, ms_width, r0_mu, r0_mu_s, t[k], inv_r, nu, t_x0[k], t_x1[k], t_w[k],
+                      visible[k], ms_x0[k], ms_x1[k], ms_w[k], view);
+    q_xx[k] = view.q_xx;
+    q_yy[k] = view.q_yy;
+    q_xy[k] = view.q_xy;
+    v_x[k] = view.v_x;
+    v_y[k] = view.v_y;
   }
 }
 
 }  // namespace
 
-void shade_runs(const AtmosphereLuts& luts, const MarchSteps& steps, float h0, float mu_s, float nu, size_t run,
-                ShadedRay* shaded, glm::vec3* transmittance) {
+void shade_runs(const AtmosphereLuts& luts, const MarchSteps& steps, float h0, float mu, float mu_s, float nu,
+                size_t run, ShadedRay* shaded, glm::vec3* transmittance) {
   const size_t n = steps.t.size();
   thread_local StepCoordinates c;
   c.resize(n);
-  const float r0_mu_s = (float(luts.model.bottom_radius) + h0) * mu_s;  // MarchedRay::r0 * mu_s
-  step_coordinates(luts, r0_mu_s, nu, n, steps.t.data(), steps.h.data(), c.t_x0.data(), c.t_x1.data(), c.t_w.data(),
+  const float r0 = float(luts.model.bottom_radius) + h0;  // MarchedRay::r0
+  step_coordinates(luts, r0 * mu, r0 * mu_s, nu, n, steps.t.data(), steps.h.data(), c.t_x0.data(), c.t_x1.data(), c.t_w.data(),
                    c.t_y0.data(), c.t_y1.data(), c.t_wy.data(), c.visible.data(), c.ms_x0.data(), c.ms_x1.data(),
-                   c.ms_w.data(), c.ms_y0.data(), c.ms_y1.data(), c.ms_wy.data());
+                   c.ms_w.data(), c.ms_y0.data(), c.ms_y1.data(), c.ms_wy.data(), c.q_xx.data(), c.q_yy.data(),
+                   c.q_xy.data(), c.v_x.data(), c.v_y.data());
   const PackedLuts packed(luts.transmittance, luts.multiscattering);
   const float phase_r = rayleigh_phase(nu);
   const Float4 rayleigh = to_float4(luts.model.rayleigh_scattering), mie = to_float4(luts.model.mie_scattering);
@@ -74,7 +84,8 @@ void shade_runs(const AtmosphereLuts& luts, const MarchSteps& steps, float h0, f
       const Float4 w = throughput * Float4{steps.segment[0][k], steps.segment[1][k], steps.segment[2][k], 0.0f};
       throughput *= Float4{steps.step_t[0][k], steps.step_t[1][k], steps.step_t[2][k], 1.0f};
       add_sample(packed, LutCoord{c.t_y0[k], c.t_y1[k], c.t_wy[k]}, LutCoord{c.ms_y0[k], c.ms_y1[k], c.ms_wy[k]},
-                 c.t_x0[k], c.t_x1[k], c.t_w[k], c.visible[k], c.ms_x0[k], c.ms_x1[k], c.ms_w[k], phase_r,
+                 c.t_x0[k], c.t_x1[k], c.t_w[k], c.visible[k], c.ms_x0[k], c.ms_x1[k], c.ms_w[k],
+                 MsView{c.q_xx[k], c.q_yy[k], c.q_xy[k], c.v_x[k], c.v_y[k]}, phase_r,
                  w * rayleigh_scattering, w * mie_scattering, w * (rayleigh_scattering + mie_scattering), rest,
                  mie_sum);
     }

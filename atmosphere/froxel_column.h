@@ -15,9 +15,9 @@ namespace cr {
 
 // For each run r of `run` consecutive steps (steps [r * run, (r + 1) * run)):
 // shaded[r] = shade_split(luts, ray, mu_s, nu) and transmittance[r] =
-// ray.transmittance for ray = accumulate(luts, steps, r * run, (r + 1) * run, h0),
+// ray.transmittance for ray = accumulate(luts, steps, r * run, (r + 1) * run, h0, mu),
 // bit for bit. The step count must be a multiple of run.
-void shade_runs(const AtmosphereLuts& luts, const MarchSteps& steps, float h0, float mu_s, float nu, size_t run,
-                ShadedRay* shaded, glm::vec3* transmittance);
+void shade_runs(const AtmosphereLuts& luts, const MarchSteps& steps, float h0, float mu, float mu_s, float nu,
+                size_t run, ShadedRay* shaded, glm::vec3* transmittance);
 
 }  // namespace cr

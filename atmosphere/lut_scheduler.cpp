@@ -182,6 +182,15 @@ AtmospherePlan LutScheduler::plan(const AtmosphereFrameInputs& inputs) const {
   return p;
 }
 
+void bake_in_jobs(MultiScatteringLut& lut, size_t begin, size_t end, size_t granule, const TransmittanceLut& t,
+                  JobSystem& jobs, const std::string& name) {
+  for (int p = 0; p < lut.passes(); ++p) {
+    const size_t b = std::max(begin, size_t(p) * lut.texel_count());
+    const size_t e = std::min(end, size_t(p + 1) * lut.texel_count());
+    if (e > b) jobs.parallel_for(name, e - b, granule, [&](size_t x, size_t y) { lut.bake(b + x, b + y, t); });
+  }
+}
+
 void LutScheduler::run_slices(LutKind kind, size_t items, size_t granule, int slice, int slice_end, int slices,
                               JobSystem& jobs, const std::function<void(size_t, size_t)>& bake) {
   const size_t begin = slice_begin(items, granule, slice, slices);
@@ -240,14 +249,16 @@ void LutScheduler::run(LutKind kind, const AtmospherePlan& plan, JobSystem& jobs
         begin_rebuild(ms_);
         ms_.b_t = t_.front;
         ms_.b_upstream = t_.version;
-        ms_.back = std::make_shared<MultiScatteringLut>(ms_.b_t->model(), s.multiscattering_size,
-                                                        s.multiscattering_directions, s.multiscattering_steps,
-                                                        s.multiscattering_max_fms);
+        ms_.back = std::make_shared<MultiScatteringLut>(
+            ms_.b_t->model(), s.multiscattering_width, s.multiscattering_height, s.multiscattering_directions,
+            s.multiscattering_steps, s.multiscattering_max_fms, s.multiscattering_explicit_orders);
       }
       MultiScatteringLut& lut = *ms_.back;
       const TransmittanceLut& t = *ms_.b_t;
-      run_slices(kind, lut.texel_count(), size_t(s.multiscattering_size), w.slice, w.slice_end, ms_.slices, jobs,
-                 [&](size_t b, size_t e) { lut.bake(b, e, t); });
+      const size_t granule = size_t(s.multiscattering_width);
+      bake_in_jobs(lut, slice_begin(lut.work_items(), granule, w.slice, ms_.slices),
+                   slice_begin(lut.work_items(), granule, w.slice_end, ms_.slices), granule, t, jobs,
+                   std::string("atmosphere.") + lut_name(kind));
       finish(ms_);
       break;
     }

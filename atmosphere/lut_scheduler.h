@@ -143,4 +143,9 @@ class LutScheduler {
 // Slice `s` of `slices` over `items`, aligned down to multiples of `granule`.
 size_t slice_begin(size_t items, size_t granule, int s, int slices);
 
+// lut.bake(begin, end) as jobs of `granule` items, one parallel_for per pass
+// it spans (a pass needs all of the previous one).
+void bake_in_jobs(MultiScatteringLut& lut, size_t begin, size_t end, size_t granule, const TransmittanceLut& t,
+                  JobSystem& jobs, const std::string& name);
+
 }  // namespace cr

@@ -1,6 +1,7 @@
 #include "atmosphere/multiscattering_lut.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 
@@ -12,13 +13,12 @@
 
 namespace cr {
 
-namespace {
-
 // One marched step of one direction: everything that does not depend on the sun.
 struct MarchStep {
   float tx_over_r;  // horizontal offset / r at the sample (sun-plane component)
   float y_over_r;   // vertical position / r at the sample
-  glm::vec3 weight; // throughput * scattering * (1 - T_step) / extinction
+  glm::vec3 rayleigh_weight;  // throughput * Rayleigh scattering * (1 - T_step) / extinction
+  glm::vec3 mie_weight;       // the same with Mie scattering
   TransmittanceRow row;
 };
 
@@ -30,11 +30,14 @@ struct AltitudeMarch {
   std::vector<float> ground_x, ground_y;  // ground hit point / R
   std::vector<TransmittanceRow> ground_row;
   std::vector<float> dir_weight;
+  std::vector<float> dir_x, dir_y;  // direction components in the sun plane (x: towards the sun, y: up)
   // The steps' sun-lookup inputs again, one array each, for a loop that vectorizes.
   std::vector<float> tx_over_r, y_over_r, row_r, row_d_min, row_inv_d_range, row_top2_minus_r2, row_mu_horizon,
       row_penumbra;
-  std::vector<Float4> weight;  // the steps' weights as rgb + pad
+  std::vector<Float4> rayleigh_weight, mie_weight;  // the steps' weights as rgb + pad
 };
+
+namespace {
 
 // The polar angles of the directions: n bands uniform in u in [-1, 1], mapped
 // to cos = mu_h +- (1 -+ mu_h) u^2 about the local horizon mu_h, so the bands
@@ -97,6 +100,8 @@ AltitudeMarch march_altitude(const AtmosphereModel& m, const TransmittanceLut& l
   am.ground_y.assign(size_t(dir_count), 0.0f);
   am.ground_row.assign(size_t(dir_count), lut.row(0.0f));
   am.dir_weight.assign(size_t(dir_count), 0.0f);
+  am.dir_x.assign(size_t(dir_count), 0.0f);
+  am.dir_y.assign(size_t(dir_count), 0.0f);
   for (int a = 0; a < half; ++a) {
     const double azimuth = 2.0 * M_PI * (double(a) + 0.5) / n;
     for (int b = 0; b < n; ++b) {
@@ -107,6 +112,8 @@ AltitudeMarch march_altitude(const AtmosphereModel& m, const TransmittanceLut& l
       const double sin_p = std::sqrt(std::max(0.0, 1.0 - cos_p * cos_p));
       const double dir_x = sin_p * std::cos(azimuth);  // in the sun plane (sun has z = 0)
       const double dir_y = cos_p;
+      am.dir_x[size_t(d)] = float(dir_x);
+      am.dir_y[size_t(d)] = float(dir_y);
       const double t_ground = distance_to_ground(r0, cos_p, R);
       const double t_max = t_ground >= 0.0 ? t_ground : std::max(distance_to_sphere_exit(r0, cos_p, m.top_radius), 0.0);
       const float dt = float(t_max / steps);
@@ -125,9 +132,10 @@ AltitudeMarch march_altitude(const AtmosphereModel& m, const TransmittanceLut& l
         MarchStep& s = am.steps[size_t(d) * steps + k];
         s.tx_over_r = float(double(t) * dir_x) / r;
         s.y_over_r = float(r0 + double(t) * dir_y) / r;
-        s.weight = throughput * med.scattering * seg;
+        s.rayleigh_weight = throughput * med.rayleigh_scattering * seg;
+        s.mie_weight = throughput * med.mie_scattering * seg;
         s.row = lut.row(h);
-        am.fms[size_t(d)] += s.weight;
+        am.fms[size_t(d)] += throughput * med.scattering * seg;
         throughput *= step_t;
       }
       if (t_ground >= 0.0) {
@@ -142,10 +150,12 @@ AltitudeMarch march_altitude(const AtmosphereModel& m, const TransmittanceLut& l
   for (auto* v : {&am.tx_over_r, &am.y_over_r, &am.row_r, &am.row_d_min, &am.row_inv_d_range,
                   &am.row_top2_minus_r2, &am.row_mu_horizon, &am.row_penumbra})
     v->resize(am.steps.size());
-  am.weight.resize(am.steps.size());
+  am.rayleigh_weight.resize(am.steps.size());
+  am.mie_weight.resize(am.steps.size());
   for (size_t k = 0; k < am.steps.size(); ++k) {
     const MarchStep& s = am.steps[k];
-    am.weight[k] = to_float4(s.weight);
+    am.rayleigh_weight[k] = to_float4(s.rayleigh_weight);
+    am.mie_weight[k] = to_float4(s.mie_weight);
     am.tx_over_r[k] = s.tx_over_r;
     am.y_over_r[k] = s.y_over_r;
     am.row_r[k] = s.row.r;
@@ -179,11 +189,19 @@ __attribute__((noinline)) void sun_lookups(size_t n, int width, float sin_s, flo
   }
 }
 
-void integrate_sun(const AltitudeMarch& am, const TransmittanceLut& lut, int steps, float mu_s,
-                   glm::vec3& l2, glm::vec3& fms) {
+// What integrate_sun gives for one texel: the second-order luminance's
+// sphere mean l2 and its moments, and the transfer factor f_ms.
+struct SecondOrder {
+  glm::vec3 l2{0.0f};
+  std::array<glm::vec3, kMsMomentCount> moments{};
+  glm::vec3 fms{0.0f};
+  glm::vec3 sky_irradiance{0.0f};  // of a horizontal surface at the point, from the upper hemisphere
+};
+
+SecondOrder integrate_sun(const AtmosphereModel& m, const AltitudeMarch& am, const TransmittanceLut& lut, int steps,
+                          float mu_s) {
   const float sin_s = std::sqrt(std::max(0.0f, 1.0f - mu_s * mu_s));
-  l2 = glm::vec3(0.0f);
-  fms = glm::vec3(0.0f);
+  SecondOrder out;
   const size_t dirs = am.fms.size();
   const size_t n = am.steps.size();
   thread_local std::vector<int> x0, x1;
@@ -197,63 +215,196 @@ void integrate_sun(const AltitudeMarch& am, const TransmittanceLut& lut, int ste
               am.row_inv_d_range.data(), am.row_top2_minus_r2.data(), am.row_mu_horizon.data(),
               am.row_penumbra.data(), x0.data(), x1.data(), w.data(), visible.data());
   const float* texels = lut.packed();
+  // The sun's light scatters into each direction with the true phase of its
+  // scattering angle (Hillaire uses the isotropic one): in twilight the lit
+  // air sits on one side and what reaches the shadowed air is mostly
+  // scattered forwards. Each phase is normalised over the directions, so
+  // the quadrature keeps the scattered energy whatever its resolution.
+  thread_local std::vector<float> phase_r, phase_m;
+  phase_r.resize(dirs);
+  phase_m.resize(dirs);
+  float sum_r = 0.0f, sum_m = 0.0f;
   for (size_t d = 0; d < dirs; ++d) {
-    Float4 sum{};
+    const float cos_theta = am.dir_x[d] * sin_s + am.dir_y[d] * mu_s;  // the direction towards the sun's
+    phase_r[d] = rayleigh_phase(cos_theta);
+    phase_m[d] = mie_phase(m, cos_theta);
+    sum_r += phase_r[d] * am.dir_weight[d];
+    sum_m += phase_m[d] * am.dir_weight[d];
+  }
+  // sum_x is the directions' mean phase; the normalised one averages 1 / (4 pi).
+  const float norm_r = kIsotropicPhase / sum_r, norm_m = kIsotropicPhase / sum_m;
+  for (size_t d = 0; d < dirs; ++d) {
+    Float4 rayleigh{}, mie{};
     for (size_t k = d * size_t(steps); k < (d + 1) * size_t(steps); ++k) {
       const TransmittanceRow& row = am.steps[k].row;
       // weight * lut.sun(row, mu), as rgb + pad texels
       const Float4 sun = bilinear4(texels, width, x0[k], x1[k], w[k], row.y.i0, row.y.i1, row.y.w) * splat4(visible[k]);
-      sum += am.weight[k] * sun;
+      rayleigh += am.rayleigh_weight[k] * sun;
+      mie += am.mie_weight[k] * sun;
     }
-    glm::vec3 l = to_vec3(sum) * kIsotropicPhase;
+    glm::vec3 l = to_vec3(rayleigh) * (phase_r[d] * norm_r) + to_vec3(mie) * (phase_m[d] * norm_m);
     if (am.ground_tp[d] != glm::vec3(0.0f)) {
       const float mu_g = am.ground_x[d] * sin_s + am.ground_y[d] * mu_s;
       l += am.ground_tp[d] * lut.sun(am.ground_row[d], mu_g) * std::max(mu_g, 0.0f);
     }
-    l2 += l * am.dir_weight[d];
-    fms += am.fms[d] * am.dir_weight[d];
+    // L2 and f_ms are sphere integrals of isotropically re-scattered light: means over directions.
+    const glm::vec3 lw = l * am.dir_weight[d];
+    out.l2 += lw;
+    out.fms += am.fms[d] * am.dir_weight[d];
+    const float x = am.dir_x[d], y = am.dir_y[d];
+    out.moments[kMsQuadXX] += lw * (3.0f * x * x - 1.0f);
+    out.moments[kMsQuadYY] += lw * (3.0f * y * y - 1.0f);
+    out.moments[kMsQuadXY] += lw * (3.0f * x * y);
+    out.moments[kMsFirstX] += lw * x;
+    out.moments[kMsFirstY] += lw * y;
+    if (y > 0.0f) out.sky_irradiance += lw * (4.0f * kPi * y);
   }
-  // L2 and f_ms are sphere integrals of isotropically re-scattered light: mean over directions.
+  return out;
 }
 
 }  // namespace
 
-MultiScatteringLut::MultiScatteringLut(const AtmosphereModel& model, int size, int directions, int steps,
-                                       float max_fms)
+MultiScatteringLut::MultiScatteringLut(const AtmosphereModel& model, int width, int height, int directions, int steps,
+                                       float max_fms, int explicit_orders)
     : model_(model),
       directions_(directions),
       steps_(steps),
       max_fms_(max_fms),
+      explicit_orders_(explicit_orders),
       inv_top_altitude_(float(1.0 / model.atmosphere_height())),
-      image_(size, size),
+      image_(width, height),
       packed_(4 * image_.count(), 0.0f),
-      clamped_(size_t(size) * size, 0),
-      fms_(size_t(size) * size, 0.0f),
+      moments_(size_t(kMsMomentCount) * 4 * image_.count(), 0.0f),
+      clamped_(image_.count(), 0),
+      fms_(image_.count(), 0.0f),
+      fields_(size_t(std::max(explicit_orders, 1) + 1), std::vector<float>(4 * image_.count(), 0.0f)),
+      transfer_(image_.count()),
+      ground_sky_(size_t(image_.width)),
       ground_irradiance_(ground_irradiance_per_unit_field(
-          model, int(std::lround(std::sqrt(double(directions)))), steps)) {}
+          model, int(std::lround(std::sqrt(double(directions)))), steps)) {
+  moment_images_.fill(LutImage(width, height));
+  const std::array<double, 2> k = mie_legendre_coefficients(model);
+  moment_scale_ = {0.25f, 0.25f, 0.25f, float(3.0 * k[0]), float(3.0 * k[0])};
+  mie_quadratic_ratio_ = float(10.0 * k[1]);
+}
 
 void MultiScatteringLut::bake(size_t begin, size_t end, const TransmittanceLut& transmittance) {
+  const size_t count = image_.count();
   const int w = image_.width;
-  size_t i = begin;
-  while (i < end) {
-    const int y = int(i / size_t(w));
-    const size_t row_end = std::min(end, size_t(y + 1) * size_t(w));
+  size_t item = begin;
+  while (item < end) {
+    const int pass = int(item / count);
+    const size_t i0 = item % count;
+    const int y = int(i0 / size_t(w));
+    const size_t row_end = std::min(end, size_t(pass) * count + size_t(y + 1) * size_t(w));
     const float altitude = float(y) / float(image_.height - 1) * float(model_.atmosphere_height());
     const AltitudeMarch am = march_altitude(model_, transmittance, altitude, directions_, steps_, ground_irradiance_);
-    for (; i < row_end; ++i) {
-      const int x = int(i % size_t(w));
-      const float mu_s = MultiScatteringMapping::from_unit(float(x) / float(w - 1));
-      glm::vec3 l2, fms;
-      integrate_sun(am, transmittance, steps_, mu_s, l2, fms);
-      const float fmax = std::max(fms.x, std::max(fms.y, fms.z));
-      clamped_[i] = fmax > max_fms_ ? 1 : 0;
-      fms_[i] = fmax;
-      const glm::vec3 f = glm::min(fms, glm::vec3(max_fms_));
-      const glm::vec3 psi = l2 / (glm::vec3(1.0f) - f);
-      image_.texels[i] = psi;
-      std::memcpy(&packed_[4 * i], &psi, sizeof psi);
+    for (; item < row_end; ++item) {
+      const size_t i = item % count;
+      const float mu_s = MultiScatteringMapping::from_unit(float(i % size_t(w)) / float(w - 1));
+      if (pass == 0)
+        bake_second_order(am, transmittance, i, mu_s, y == 0);
+      else
+        bake_higher_order(am, pass, i, mu_s);
     }
   }
+}
+
+void MultiScatteringLut::bake_second_order(const AltitudeMarch& am, const TransmittanceLut& transmittance, size_t i,
+                                           float mu_s, bool ground_row) {
+  const SecondOrder so = integrate_sun(model_, am, transmittance, steps_, mu_s);
+  const float fmax = std::max(so.fms.x, std::max(so.fms.y, so.fms.z));
+  clamped_[i] = fmax > max_fms_ ? 1 : 0;
+  fms_[i] = fmax;
+  transfer_[i] = glm::min(so.fms, glm::vec3(max_fms_));
+  std::memcpy(&fields_[0][4 * i], &so.l2, sizeof so.l2);
+  if (ground_row) ground_sky_[i] = so.sky_irradiance;
+  for (int k = 0; k < kMsMomentCount; ++k) {
+    const glm::vec3 v = so.moments[size_t(k)] * moment_scale_[size_t(k)];
+    moment_images_[size_t(k)].texels[i] = v;
+    std::memcpy(&moments_[(size_t(k) * image_.count() + i) * 4], &v, sizeof v);
+  }
+}
+
+glm::vec3 MultiScatteringLut::ground_sky(float mu) const {
+  const int w = image_.width;
+  const float x = std::clamp(MultiScatteringMapping::to_unit(mu), 0.0f, 1.0f) * float(w - 1);
+  const int x0 = std::min(int(x), w - 2);
+  const float f = x - float(x0);
+  return ground_sky_[size_t(x0)] * (1.0f - f) + ground_sky_[size_t(x0) + 1] * f;
+}
+
+void MultiScatteringLut::bake_higher_order(const AltitudeMarch& am, int pass, size_t i, float mu_s) {
+  const glm::vec3 l2 = to_vec3(load4(&fields_[0][4 * i]));
+  const glm::vec3 f = transfer_[i];
+  glm::vec3 field(0.0f);
+  if (pass <= explicit_orders_)
+    field = march_field(am, fields_[size_t(pass) - 1].data(), mu_s);
+  else
+    field = l2 * f;  // no explicit order: Hillaire's estimate of the third
+  if (pass == 1) field += ground_skylight(am, mu_s);
+  std::memcpy(&fields_[size_t(pass)][4 * i], &field, sizeof field);
+  if (pass + 1 < passes()) return;
+  // The explicit orders, then the series for the tail from the last one.
+  glm::vec3 psi = field / (glm::vec3(1.0f) - f);
+  for (int q = 0; q < pass; ++q) psi += to_vec3(load4(&fields_[size_t(q)][4 * i]));
+  image_.texels[i] = psi;
+  std::memcpy(&packed_[4 * i], &psi, sizeof psi);
+}
+
+// The next order's field at a texel: each step scatters the previous order's
+// field (at its own altitude and sun angle; isotropic), the ground reflects
+// the light the medium scatters onto it (as in f_ms).
+glm::vec3 MultiScatteringLut::march_field(const AltitudeMarch& am, const float* previous, float mu_s) const {
+  const int w = image_.width, h = image_.height;
+  const float sin_s = std::sqrt(std::max(0.0f, 1.0f - mu_s * mu_s));
+  const float bottom = float(model_.bottom_radius);
+  const float y_scale = float(h - 1) * inv_top_altitude_;
+  auto field_at = [&](float altitude, float mu) {
+    const float x = std::clamp(MultiScatteringMapping::to_unit(mu), 0.0f, 1.0f) * float(w - 1);
+    const int x0 = std::min(int(x), w - 1), x1 = std::min(x0 + 1, w - 1);
+    const LutCoord yc = lut_coord(std::clamp(altitude, 0.0f, 1.0f / inv_top_altitude_) * y_scale, h);
+    return bilinear4(previous, w, x0, x1, x - float(x0), yc.i0, yc.i1, yc.w);
+  };
+  glm::vec3 sum(0.0f);
+  const size_t dirs = am.fms.size();
+  for (size_t d = 0; d < dirs; ++d) {
+    Float4 l{};
+    for (size_t k = d * size_t(steps_); k < (d + 1) * size_t(steps_); ++k) {
+      const float mu = std::clamp(am.tx_over_r[k] * sin_s + am.y_over_r[k] * mu_s, -1.0f, 1.0f);
+      l += (am.rayleigh_weight[k] + am.mie_weight[k]) * field_at(am.row_r[k] - bottom, mu);
+    }
+    glm::vec3 ld = to_vec3(l);
+    if (am.ground_tp[d] != glm::vec3(0.0f)) {
+      const float mu_g = std::clamp(am.ground_x[d] * sin_s + am.ground_y[d] * mu_s, -1.0f, 1.0f);
+      ld += am.ground_tp[d] * ground_irradiance_ * to_vec3(field_at(0.0f, mu_g));
+    }
+    sum += ld * am.dir_weight[d];
+  }
+  return sum;
+}
+
+// The ground lit by the once-scattered sky (the second-order field's upper
+// hemisphere at the ground) reflecting it towards the texel: light scattered
+// twice, so part of the third order. Hillaire's f_ms has the ground reflect
+// only what the medium scatters onto it, which leaves this term out; it is
+// about a tenth of the multiple scattering near the ground under a high sun.
+glm::vec3 MultiScatteringLut::ground_skylight(const AltitudeMarch& am, float mu_s) const {
+  const float sin_s = std::sqrt(std::max(0.0f, 1.0f - mu_s * mu_s));
+  glm::vec3 sum(0.0f);
+  for (size_t d = 0; d < am.fms.size(); ++d) {
+    if (am.ground_tp[d] == glm::vec3(0.0f)) continue;
+    const float mu_g = std::clamp(am.ground_x[d] * sin_s + am.ground_y[d] * mu_s, -1.0f, 1.0f);
+    sum += am.ground_tp[d] * ground_sky(mu_g) * am.dir_weight[d];
+  }
+  return sum;
+}
+
+glm::vec3 MultiScatteringLut::second_order(float altitude, float mu_s) const {
+  LutImage l2(image_.width, image_.height);
+  for (size_t i = 0; i < l2.count(); ++i) l2.texels[i] = to_vec3(load4(&fields_[0][4 * i]));
+  return sample_bilinear(l2, MultiScatteringMapping::to_unit(mu_s) * float(image_.width - 1),
+                         altitude * inv_top_altitude_ * float(image_.height - 1));
 }
 
 int MultiScatteringLut::clamped_texels() const {

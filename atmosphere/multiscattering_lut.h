@@ -1,14 +1,27 @@
 #pragma once
 // LUT 2: Hillaire's multiple-scattering term Psi_ms over (sun zenith cosine,
-// altitude). Per texel, `directions` rays are marched (sqrt(directions) polar
-// bands, denser near the local horizon; isotropic phase, ground bounce with the
-// albedo) to get the second-order luminance L2 and the transfer factor f_ms,
-// which includes the ground reflecting the isotropic field back; all orders
-// follow from the geometric series Psi_ms = L2 / (1 - f_ms). f_ms is clamped to max_fms
-// (dense atmospheres drive it to 1) and clamped texels are counted. The sun
-// zenith axis is non-linear (MultiScatteringMapping), altitude is linear.
+// altitude), with three changes that matter in twilight and near the ground.
+// Per texel, `directions` rays are marched (sqrt(directions) polar bands,
+// denser near the local horizon; ground bounce with the albedo) to get the
+// second-order luminance L2 (its sphere mean and moments) and the transfer
+// factor f_ms, which includes the ground reflecting the isotropic field back.
+//  1. The sun's light scatters into each direction with the true phase
+//     (Hillaire: isotropic), and L2's directional moments are kept for the
+//     scattering towards the viewer (MsMoment below).
+//  2. `explicit_orders` further orders are marched, each from the previous
+//     order's field at every step's own altitude and sun angle (Hillaire's
+//     series assumes they are as dark as the texel's own, which in Earth's
+//     shadow they are not); the geometric series 1 / (1 - f_ms) covers the
+//     rest from the last one.
+//  3. The ground lit by the once-scattered sky reflects it (f_ms has the
+//     ground reflect only what the medium scatters onto it).
+// The bake runs in passes(): pass 0 the second order, pass p the order p + 2;
+// a pass needs all of the previous one. f_ms is clamped to max_fms (dense
+// atmospheres drive it to 1) and clamped texels are counted. The sun zenith
+// axis is non-linear (MultiScatteringMapping), altitude is linear.
 #include <cstddef>
 #include <cstdint>
+#include <array>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -18,6 +31,8 @@
 #include "atmosphere/transmittance_lut.h"
 
 namespace cr {
+
+struct AltitudeMarch;
 
 // The sun zenith cosine axis, mu_s in [-1, 1] <-> unit x in [0, 1], in three
 // linear pieces. Below mu_s ~ 0 Psi falls exponentially into Earth's shadow (an
@@ -49,36 +64,75 @@ struct MultiScatteringMapping {
   }
 };
 
+// The directional part of the second-order field, kept beside Psi_ms so that
+// the scattering towards the viewer can use the phase of its angle (Hillaire's
+// LUT is isotropic there). Moments of the luminance L(omega) arriving at the
+// texel's point, in the frame x = towards the sun horizontally, y = up (the
+// field is mirror-symmetric about the sun plane, so no z terms): the traceless
+// second moment (3 omega omega^T - I; its zz = -xx - yy) and the first moment.
+// A phase of Legendre coefficients k_l adds to the isotropic Psi
+//   k_1 * 3 F.v + k_2 * 10 / 4 * v^T A v    (v: the view direction, A, F: the
+// moments as sphere means), which for Rayleigh (k_1 = 0, k_2 = 1/10) is v^T A v / 4.
+enum MsMoment { kMsQuadXX, kMsQuadYY, kMsQuadXY, kMsFirstX, kMsFirstY, kMsMomentCount };
+
 class MultiScatteringLut {
  public:
   MultiScatteringLut() = default;
-  MultiScatteringLut(const AtmosphereModel& model, int size, int directions, int steps, float max_fms);
+  MultiScatteringLut(const AtmosphereModel& model, int width, int height, int directions, int steps, float max_fms,
+                     int explicit_orders);
 
-  // Texels [begin, end) (row-major: x = sun zenith, y = altitude).
+  // Work items [begin, end): item = pass * texel_count() + texel (row-major:
+  // x = sun zenith, y = altitude). Items of pass p may run only once all of
+  // pass p - 1 have: bake in order, or split parallel work at pass ends.
   void bake(size_t begin, size_t end, const TransmittanceLut& transmittance);
   size_t texel_count() const { return image_.count(); }
+  int passes() const { return int(fields_.size()); }
+  size_t work_items() const { return texel_count() * size_t(passes()); }
 
   // Psi_ms for unit sun illuminance: in-scattered luminance per unit scattering coefficient.
   glm::vec3 sample(float altitude, float mu_s) const {
     return sample_bilinear(image_, MultiScatteringMapping::to_unit(mu_s) * float(image_.width - 1),
                            altitude * inv_top_altitude_ * float(image_.height - 1));
   }
+  // The second order alone (pass 0's field L2: sphere-mean luminance), for tests.
+  glm::vec3 second_order(float altitude, float mu_s) const;
   int clamped_texels() const;  // texels whose f_ms hit max_fms
   float max_fms_seen() const;  // largest unclamped f_ms component over the LUT
 
   const LutImage& image() const { return image_; }
   const float* packed() const { return packed_.data(); }  // the image as rgb + pad (see float4.h)
+  // Moment k's plane, rgb + pad like packed(), pre-scaled: Rayleigh's quadratic
+  // term, and Mie's first-order term (k_1 * 3).
+  const float* moment(int k) const { return moments_.data() + size_t(k) * 4 * image_.count(); }
+  const LutImage& moment_image(int k) const { return moment_images_[size_t(k)]; }  // the same as images
+  // Mie's quadratic term over Rayleigh's (10 k_2 of the Mie phase).
+  float mie_quadratic_ratio() const { return mie_quadratic_ratio_; }
 
  private:
+  void bake_second_order(const AltitudeMarch& am, const TransmittanceLut& transmittance, size_t i, float mu_s,
+                         bool ground_row);
+  void bake_higher_order(const AltitudeMarch& am, int pass, size_t i, float mu_s);
+  glm::vec3 march_field(const AltitudeMarch& am, const float* previous, float mu_s) const;
+  glm::vec3 ground_skylight(const AltitudeMarch& am, float mu_s) const;
+  glm::vec3 ground_sky(float mu) const;  // ground_sky_ at a sun cosine
+
   AtmosphereModel model_;
   int directions_ = 64;
   int steps_ = 20;
   float max_fms_ = 0.95f;
+  int explicit_orders_ = 1;
   float inv_top_altitude_ = 0.0f;
   LutImage image_;
   std::vector<float> packed_;
+  std::array<LutImage, kMsMomentCount> moment_images_;
+  std::vector<float> moments_;  // kMsMomentCount planes of rgb + pad texels
+  std::array<float, kMsMomentCount> moment_scale_{};
+  float mie_quadratic_ratio_ = 0.0f;
   std::vector<uint8_t> clamped_;
   std::vector<float> fms_;
+  std::vector<std::vector<float>> fields_;  // per pass, its order's field (sphere mean), rgb + pad texels
+  std::vector<glm::vec3> transfer_;         // f_ms, clamped
+  std::vector<glm::vec3> ground_sky_;       // per sun column: the ground's irradiance from the once-scattered sky
   glm::vec3 ground_irradiance_{0.0f};  // of the ground from a unit isotropic field: its share of f_ms
 };
 

@@ -65,13 +65,14 @@ void march_media(const AtmosphereModel& m, float h0, float mu, float floor_altit
                  steps.step_t[2].data(), steps.segment[0].data(), steps.segment[1].data(), steps.segment[2].data());
 }
 
-void accumulate(const AtmosphereLuts& luts, const MarchSteps& steps, size_t begin, size_t end, float h0,
+void accumulate(const AtmosphereLuts& luts, const MarchSteps& steps, size_t begin, size_t end, float h0, float mu,
                 MarchedRay& out) {
   const AtmosphereModel& m = luts.model;
   const float R = float(m.bottom_radius);
   const float top = float(m.atmosphere_height());
   const float ms_scale = float(luts.multiscattering.image().height - 1) / top;
   out.r0 = R + h0;
+  out.r0_mu = out.r0 * mu;
   out.samples.resize(end - begin);
   glm::vec3 throughput(1.0f);
   for (size_t k = begin; k < end; ++k) {
@@ -109,7 +110,7 @@ void march(const AtmosphereLuts& luts, float h0, float mu, float t_begin, float 
     scratch.t[size_t(k)] = t_begin + 0.5f * (f0 + f1) * length;
   }
   march_media(luts.model, h0, mu, floor_altitude, scratch);
-  accumulate(luts, scratch, 0, size_t(steps), h0, out);
+  accumulate(luts, scratch, 0, size_t(steps), h0, mu, out);
   out.hits_ground = ends_on_ground;
   if (ends_on_ground) {
     out.ground_t = t_end;
@@ -142,11 +143,11 @@ namespace {
 // Per-direction intermediates of shade_split_many, one thread's.
 struct ShadeScratch {
   std::vector<int> t_x0, t_x1, ms_x0, ms_x1;
-  std::vector<float> t_w, sun_visible, ms_w, phase_r;
+  std::vector<float> t_w, sun_visible, ms_w, phase_r, q_xx, q_yy, q_xy, v_x, v_y;
   std::vector<Float4> rest, mie;
   void resize(size_t n) {
     for (auto* v : {&t_x0, &t_x1, &ms_x0, &ms_x1}) v->resize(n);
-    for (auto* v : {&t_w, &sun_visible, &ms_w, &phase_r}) v->resize(n);
+    for (auto* v : {&t_w, &sun_visible, &ms_w, &phase_r, &q_xx, &q_yy, &q_xy, &v_x, &v_y}) v->resize(n);
     rest.assign(n, Float4{});
     mie.assign(n, Float4{});
   }
@@ -157,14 +158,24 @@ struct ShadeScratch {
 // sample loop, GCC loses the restrict qualifiers and runs it scalar (a 1.4x
 // slower sky-view bake).
 __attribute__((noinline)) void sample_coordinates(const TransmittanceRow& row, int t_width, int ms_width,
-                                                  float r0_mu_s, float t, float inv_r, size_t n,
+                                                  float r0_mu, float r0_mu_s, float t, float inv_r, size_t n,
                                                   const float* __restrict nu, int* __restrict t_x0,
                                                   int* __restrict t_x1, float* __restrict t_w,
                                                   float* __restrict sun_visible, int* __restrict ms_x0,
-                                                  int* __restrict ms_x1, float* __restrict ms_w) {
-  for (size_t j = 0; j < n; ++j)
-    sample_coordinate(row, t_width, ms_width, r0_mu_s, t, inv_r, nu[j], t_x0[j], t_x1[j], t_w[j],
-                      sun_visible[j], ms_x0[j], ms_x1[j], ms_w[j]);
+                                                  int* __restrict ms_x1, float* __restrict ms_w,
+                                                  float* __restrict q_xx, float* __restrict q_yy,
+                                                  float* __restrict q_xy, float* __restrict v_x,
+                                                  float* __restrict v_y) {
+  for (size_t j = 0; j < n; ++j) {
+    MsView view;
+    sample_coordinate(row, t_width, ms_width, r0_mu, r0_mu_s, t, inv_r, nu[j], t_x0[j], t_x1[j], t_w[j],
+                      sun_visible[j], ms_x0[j], ms_x1[j], ms_w[j], view);
+    q_xx[j] = view.q_xx;
+    q_yy[j] = view.q_yy;
+    q_xy[j] = view.q_xy;
+    v_x[j] = view.v_x;
+    v_y[j] = view.v_y;
+  }
 }
 
 }  // namespace
@@ -178,9 +189,10 @@ ShadedRay shade_split(const AtmosphereLuts& luts, const MarchedRay& ray, float m
   for (const MarchSample& s : ray.samples) {
     int t_x0, t_x1, ms_x0, ms_x1;
     float t_w, sun_visible, ms_w;
-    sample_coordinate(s.row, luts.transmittance.image().width, ms.width, r0_mu_s, s.t, s.inv_r, nu, t_x0,
-                      t_x1, t_w, sun_visible, ms_x0, ms_x1, ms_w);
-    add_sample(packed, s.row.y, lut_coord(s.ms_y, ms.height), t_x0, t_x1, t_w, sun_visible, ms_x0, ms_x1, ms_w,
+    MsView view;
+    sample_coordinate(s.row, luts.transmittance.image().width, ms.width, ray.r0_mu, r0_mu_s, s.t, s.inv_r, nu, t_x0,
+                      t_x1, t_w, sun_visible, ms_x0, ms_x1, ms_w, view);
+    add_sample(packed, s.row.y, lut_coord(s.ms_y, ms.height), t_x0, t_x1, t_w, sun_visible, ms_x0, ms_x1, ms_w, view,
                phase_r, to_float4(s.w_rayleigh), to_float4(s.w_mie), to_float4(s.w_ms), rest, mie);
   }
   glm::vec3 l = to_vec3(rest);
@@ -199,14 +211,14 @@ void shade_split_many(const AtmosphereLuts& luts, const MarchedRay& ray, float m
   const PackedLuts packed(luts.transmittance, luts.multiscattering);
   for (size_t j = 0; j < n; ++j) sc.phase_r[j] = rayleigh_phase(nu[j]);
   for (const MarchSample& s : ray.samples) {
-    sample_coordinates(s.row, tr.width, ms.width, r0_mu_s, s.t, s.inv_r, n, nu, sc.t_x0.data(),
+    sample_coordinates(s.row, tr.width, ms.width, ray.r0_mu, r0_mu_s, s.t, s.inv_r, n, nu, sc.t_x0.data(),
                        sc.t_x1.data(), sc.t_w.data(), sc.sun_visible.data(), sc.ms_x0.data(), sc.ms_x1.data(),
-                       sc.ms_w.data());
+                       sc.ms_w.data(), sc.q_xx.data(), sc.q_yy.data(), sc.q_xy.data(), sc.v_x.data(), sc.v_y.data());
     const LutCoord ms_y = lut_coord(s.ms_y, ms.height);
     const Float4 w_rayleigh = to_float4(s.w_rayleigh), w_mie = to_float4(s.w_mie), w_ms = to_float4(s.w_ms);
     for (size_t j = 0; j < n; ++j)
       add_sample(packed, s.row.y, ms_y, sc.t_x0[j], sc.t_x1[j], sc.t_w[j], sc.sun_visible[j], sc.ms_x0[j], sc.ms_x1[j],
-                 sc.ms_w[j], sc.phase_r[j], w_rayleigh, w_mie, w_ms, sc.rest[j], sc.mie[j]);
+                 sc.ms_w[j], MsView{sc.q_xx[j], sc.q_yy[j], sc.q_xy[j], sc.v_x[j], sc.v_y[j]}, sc.phase_r[j], w_rayleigh, w_mie, w_ms, sc.rest[j], sc.mie[j]);
   }
   for (size_t j = 0; j < n; ++j) {
     glm::vec3 l = to_vec3(sc.rest[j]);

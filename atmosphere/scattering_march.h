@@ -34,6 +34,7 @@ struct MarchSample {
 
 struct MarchedRay {
   float r0 = 0.0f;
+  float r0_mu = 0.0f;  // r0 * the zenith cosine of the ray at its start
   std::vector<MarchSample> samples;
   glm::vec3 transmittance{1.0f};  // over the whole marched length
   bool hits_ground = false;
@@ -58,8 +59,9 @@ struct MarchSteps {
   void resize(size_t n);
 };
 void march_media(const AtmosphereModel& m, float h0, float mu, float floor_altitude, MarchSteps& steps);
-// The samples of steps [begin, end) as a ray starting at altitude h0, its throughput from 1 at `begin`.
-void accumulate(const AtmosphereLuts& luts, const MarchSteps& steps, size_t begin, size_t end, float h0,
+// The samples of steps [begin, end) as a ray starting at altitude h0 with zenith cosine mu, its
+// throughput from 1 at `begin`.
+void accumulate(const AtmosphereLuts& luts, const MarchSteps& steps, size_t begin, size_t end, float h0, float mu,
                 MarchedRay& out);
 
 // Marches [t_begin, t_end] along the ray from altitude h0 with zenith cosine mu.

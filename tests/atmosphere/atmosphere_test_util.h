@@ -14,7 +14,8 @@ inline AtmosphereSettings small_settings() {
   s.transmittance_width = 64;
   s.transmittance_height = 16;
   s.transmittance_steps = 20;
-  s.multiscattering_size = 8;
+  s.multiscattering_width = 8;
+  s.multiscattering_height = 8;
   s.multiscattering_directions = 16;
   s.multiscattering_steps = 8;
   s.skyview_width = 24;

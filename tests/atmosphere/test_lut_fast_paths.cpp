@@ -9,6 +9,7 @@
 
 #include "atmosphere/aerial_perspective_lut.h"
 #include "atmosphere/froxel_column.h"
+#include "atmosphere/march_lookups.h"
 #include "atmosphere/phase_functions.h"
 #include "atmosphere/planet_geometry.h"
 #include "atmosphere/scattering_march.h"
@@ -27,14 +28,23 @@ bool same_bits(const float* packed, const glm::vec3& v) { return std::memcmp(pac
 // TransmittanceLut::sun and sample_bilinear.
 ShadedRay shade_reference(const AtmosphereLuts& luts, const MarchedRay& ray, float mu_s, float nu) {
   const float phase_r = rayleigh_phase(nu);
-  const LutImage& ms = luts.multiscattering.image();
+  const MultiScatteringLut& msl = luts.multiscattering;
+  const LutImage& ms = msl.image();
   const float r0_mu_s = ray.r0 * mu_s;
+  const float mie_ratio = msl.mie_quadratic_ratio();
   glm::vec3 l(0.0f), mie(0.0f);
   for (const MarchSample& s : ray.samples) {
     const float mu_s_t = std::clamp((r0_mu_s + s.t * nu) * s.inv_r, -1.0f, 1.0f);
     const glm::vec3 sun = luts.transmittance.sun(s.row, mu_s_t);
-    const glm::vec3 psi = sample_bilinear(ms, MultiScatteringMapping::to_unit(mu_s_t) * float(ms.width - 1), s.ms_y);
-    l += sun * s.w_rayleigh * phase_r + psi * s.w_ms;
+    const float x = MultiScatteringMapping::to_unit(mu_s_t) * float(ms.width - 1);
+    auto at = [&](const LutImage& image) { return sample_bilinear(image, x, s.ms_y); };
+    const glm::vec3 psi = at(ms);
+    const MsView v = ms_view(ray.r0_mu, s.t, s.inv_r, nu, mu_s_t);
+    const glm::vec3 quadratic = at(msl.moment_image(kMsQuadXX)) * v.q_xx + at(msl.moment_image(kMsQuadYY)) * v.q_yy +
+                                at(msl.moment_image(kMsQuadXY)) * v.q_xy;
+    const glm::vec3 first = at(msl.moment_image(kMsFirstX)) * v.v_x + at(msl.moment_image(kMsFirstY)) * v.v_y;
+    const glm::vec3 multiple = psi * s.w_ms + quadratic * s.w_rayleigh + (quadratic * mie_ratio + first) * s.w_mie;
+    l += sun * s.w_rayleigh * phase_r + glm::max(multiple, glm::vec3(0.0f));
     mie += sun * s.w_mie;
   }
   if (ray.hits_ground) {
@@ -112,10 +122,10 @@ TEST_CASE("a column's runs shaded at once equal accumulating and shading each ru
         march_media(luts.model, h0, mu, 5.0f, steps);
         std::vector<ShadedRay> shaded(runs);
         std::vector<glm::vec3> transmittance(runs);
-        shade_runs(luts, steps, h0, mu_s, nu, run, shaded.data(), transmittance.data());
+        shade_runs(luts, steps, h0, mu, mu_s, nu, run, shaded.data(), transmittance.data());
         MarchedRay ray;
         for (size_t r = 0; r < runs; ++r) {
-          accumulate(luts, steps, r * run, (r + 1) * run, h0, ray);
+          accumulate(luts, steps, r * run, (r + 1) * run, h0, mu, ray);
           const ShadedRay ref = shade_split(luts, ray, mu_s, nu);
           CAPTURE(zenith);
           CAPTURE(mu);
