@@ -356,28 +356,20 @@ void MultiScatteringLut::bake_higher_order(const AltitudeMarch& am, int pass, si
 // field (at its own altitude and sun angle; isotropic), the ground reflects
 // the light the medium scatters onto it (as in f_ms).
 glm::vec3 MultiScatteringLut::march_field(const AltitudeMarch& am, const float* previous, float mu_s) const {
-  const int w = image_.width, h = image_.height;
   const float sin_s = std::sqrt(std::max(0.0f, 1.0f - mu_s * mu_s));
   const float bottom = float(model_.bottom_radius);
-  const float y_scale = float(h - 1) * inv_top_altitude_;
-  auto field_at = [&](float altitude, float mu) {
-    const float x = std::clamp(MultiScatteringMapping::to_unit(mu), 0.0f, 1.0f) * float(w - 1);
-    const int x0 = std::min(int(x), w - 1), x1 = std::min(x0 + 1, w - 1);
-    const LutCoord yc = lut_coord(std::clamp(altitude, 0.0f, 1.0f / inv_top_altitude_) * y_scale, h);
-    return bilinear4(previous, w, x0, x1, x - float(x0), yc.i0, yc.i1, yc.w);
-  };
   glm::vec3 sum(0.0f);
   const size_t dirs = am.fms.size();
   for (size_t d = 0; d < dirs; ++d) {
     Float4 l{};
     for (size_t k = d * size_t(steps_); k < (d + 1) * size_t(steps_); ++k) {
       const float mu = std::clamp(am.tx_over_r[k] * sin_s + am.y_over_r[k] * mu_s, -1.0f, 1.0f);
-      l += (am.rayleigh_weight[k] + am.mie_weight[k]) * field_at(am.row_r[k] - bottom, mu);
+      l += (am.rayleigh_weight[k] + am.mie_weight[k]) * sample_field(previous, am.row_r[k] - bottom, mu);
     }
     glm::vec3 ld = to_vec3(l);
     if (am.ground_tp[d] != glm::vec3(0.0f)) {
       const float mu_g = std::clamp(am.ground_x[d] * sin_s + am.ground_y[d] * mu_s, -1.0f, 1.0f);
-      ld += am.ground_tp[d] * ground_irradiance_ * to_vec3(field_at(0.0f, mu_g));
+      ld += am.ground_tp[d] * ground_irradiance_ * to_vec3(sample_field(previous, 0.0f, mu_g));
     }
     sum += ld * am.dir_weight[d];
   }
@@ -400,11 +392,16 @@ glm::vec3 MultiScatteringLut::ground_skylight(const AltitudeMarch& am, float mu_
   return sum;
 }
 
+Float4 MultiScatteringLut::sample_field(const float* field, float altitude, float mu) const {
+  const int w = image_.width, h = image_.height;
+  const float x = std::clamp(MultiScatteringMapping::to_unit(mu), 0.0f, 1.0f) * float(w - 1);
+  const int x0 = std::min(int(x), w - 1), x1 = std::min(x0 + 1, w - 1);
+  const LutCoord yc = lut_coord(std::clamp(altitude, 0.0f, 1.0f / inv_top_altitude_) * (float(h - 1) * inv_top_altitude_), h);
+  return bilinear4(field, w, x0, x1, x - float(x0), yc.i0, yc.i1, yc.w);
+}
+
 glm::vec3 MultiScatteringLut::second_order(float altitude, float mu_s) const {
-  LutImage l2(image_.width, image_.height);
-  for (size_t i = 0; i < l2.count(); ++i) l2.texels[i] = to_vec3(load4(&fields_[0][4 * i]));
-  return sample_bilinear(l2, MultiScatteringMapping::to_unit(mu_s) * float(image_.width - 1),
-                         altitude * inv_top_altitude_ * float(image_.height - 1));
+  return to_vec3(sample_field(fields_[0].data(), altitude, mu_s));
 }
 
 int MultiScatteringLut::clamped_texels() const {

@@ -27,6 +27,7 @@
 #include <glm/glm.hpp>
 
 #include "atmosphere/atmosphere_model.h"
+#include "atmosphere/float4.h"
 #include "atmosphere/lut_image.h"
 #include "atmosphere/transmittance_lut.h"
 
@@ -115,6 +116,8 @@ class MultiScatteringLut {
   glm::vec3 march_field(const AltitudeMarch& am, const float* previous, float mu_s) const;
   glm::vec3 ground_skylight(const AltitudeMarch& am, float mu_s) const;
   glm::vec3 ground_sky(float mu) const;  // ground_sky_ at a sun cosine
+  // A field_ (rgb + pad texels) at an altitude and sun cosine, bilinear, clamped to the LUT.
+  Float4 sample_field(const float* field, float altitude, float mu) const;
 
   AtmosphereModel model_;
   int directions_ = 64;
