@@ -1,10 +1,12 @@
 // Model, phase functions, transmittance against closed forms, LUT mappings.
 #include <doctest/doctest.h>
 
+#include <array>
 #include <cmath>
 
 #include "atmosphere/atmosphere_model.h"
 #include "atmosphere/atmosphere_settings.h"
+#include "atmosphere/march_lookups.h"
 #include "atmosphere/multiscattering_lut.h"
 #include "atmosphere/phase_functions.h"
 #include "atmosphere/planet_geometry.h"
@@ -59,6 +61,41 @@ TEST_CASE("phase functions integrate to one over the sphere") {
   CHECK(sphere_integral([&](double c) { return mie_phase(m, float(c)); }) == doctest::Approx(1.0).epsilon(2e-4));
   // Forward peak: Mie scatters much more forwards than backwards.
   CHECK(mie_phase(m, 1.0f) > 50.0f * mie_phase(m, -1.0f));
+}
+
+TEST_CASE("the Mie phase's Legendre coefficients: g^l for Henyey-Greenstein") {
+  AtmosphereModel m;
+  m.mie_phase = MiePhaseModel::DoubleHenyeyGreenstein;
+  m.mie_lobe_weight = 1.0f;  // one lobe: HG with g
+  for (float g : {-0.7f, 0.0f, 0.3f, 0.8f, 0.95f}) {
+    m.mie_g = g;
+    const std::array<double, 2> k = mie_legendre_coefficients(m);
+    CAPTURE(g);
+    CHECK(k[0] == doctest::Approx(g).epsilon(1e-3).scale(1.0));
+    CHECK(k[1] == doctest::Approx(double(g) * g).epsilon(1e-3).scale(1.0));
+  }
+}
+
+TEST_CASE("the multiple-scattering view factors are the view direction in the sun-plane frame") {
+  // A sample at radius r on the y axis, the sun in the x-y plane: v_y = v.up, v_x = v.(sun's horizontal).
+  const float r = 6361e3f;
+  for (float mu : {0.9f, 0.2f, -0.4f})        // the sun's zenith cosine at the sample
+    for (float az : {0.0f, 1.0f, 2.5f})       // the view's azimuth from the sun
+      for (float vy : {0.95f, 0.1f, -0.6f}) {  // the view's zenith cosine there
+        const float sv = std::sqrt(1.0f - vy * vy), ss = std::sqrt(1.0f - mu * mu);
+        const glm::vec3 v(sv * std::cos(az), vy, sv * std::sin(az)), sun(ss, mu, 0.0f);
+        const float nu = glm::dot(v, sun);
+        // The ray starts at t = 0 with r0 * its zenith cosine; at t = 0 the sample is the start.
+        const MsView view = ms_view(r * vy, 0.0f, 1.0f / r, nu, mu);
+        CAPTURE(mu);
+        CAPTURE(az);
+        CAPTURE(vy);
+        CHECK(view.v_y == doctest::Approx(vy).epsilon(1e-5));
+        CHECK(view.v_x == doctest::Approx(v.x).epsilon(1e-4).scale(1.0));
+        CHECK(view.q_xx == doctest::Approx(v.x * v.x - v.z * v.z).epsilon(1e-4).scale(1.0));
+        CHECK(view.q_yy == doctest::Approx(v.y * v.y - v.z * v.z).epsilon(1e-4).scale(1.0));
+        CHECK(view.q_xy == doctest::Approx(2.0f * v.x * v.y).epsilon(1e-4).scale(1.0));
+      }
 }
 
 TEST_CASE("transmittance through a homogeneous atmosphere matches exp(-sigma * length)") {
