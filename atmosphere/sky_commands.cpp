@@ -16,6 +16,7 @@
 #include "atmosphere/accuracy_score.h"
 #include "atmosphere/atmosphere_plugin.h"
 #include "atmosphere/lut_debug_output.h"
+#include "atmosphere/reference_merge.h"
 #include "atmosphere/reference_renderer.h"
 #include "atmosphere/sky_composite.h"
 #include "engine/core/error.h"
@@ -240,10 +241,33 @@ void read_reference_exr(const std::string& path, int w, int h, std::vector<float
   if (y.empty() || noise.empty()) throw InputError(path, "channels Y and noise: missing (not written by sky-accuracy --out)");
 }
 
+// The references of one case from every directory of --reference that has it, merged.
+ReferenceLuminance read_references(const std::vector<std::string>& dirs, const std::string& file, int w, int h) {
+  std::vector<ReferenceLuminance> refs;
+  for (const std::string& dir : dirs) {
+    const std::string path = dir + "/" + file;
+    if (!std::filesystem::exists(path)) continue;
+    ReferenceLuminance r;
+    read_reference_exr(path, w, h, r.luminance, r.noise);
+    refs.push_back(std::move(r));
+  }
+  if (refs.empty()) throw InputError(file, "not found in any --reference directory");
+  return merge_references(refs, file);
+}
+
+std::vector<std::string> split_list(const std::string& text) {
+  std::vector<std::string> out;
+  std::stringstream ss(text);
+  std::string item;
+  while (std::getline(ss, item, ','))
+    if (!item.empty()) out.push_back(item);
+  return out;
+}
+
 const char* const kAccuracyUsage =
     "usage: sky-accuracy [--preset NAME | --scene FILE] [--profile FILE] [--sun-zenith 0,45,80,90,95]\n"
     "                    [--altitude 1,1000,10000] [--width 48] [--height 24] [--spp 4096] [--seed 1]\n"
-    "                    [--threads N] [--out DIR] [--reference DIR]\n"
+    "                    [--threads N] [--out DIR] [--reference DIR[,DIR...]]\n"
     "Renders a panorama (azimuth 0-360 deg from the sun, elevation 90 to -10 deg; from above the space\n"
     "altitude 0 to -90 deg) with the LUT method and the path-traced reference and prints, per case:\n"
     "  mean, p95   relative luminance error |Y_lut - Y_ref| / Y_ref over the scored pixels: sky above the\n"
@@ -259,6 +283,8 @@ const char* const kAccuracyUsage =
     "not change the verdict); otherwise a noisy reference is marked \"ref noise too high\".\n"
     "Targets: mean <= 3%, p95 <= 8%. --out DIR writes both images as EXR (the reference with Y and noise\n"
     "channels); --reference DIR reads such references instead of rendering them (same view options).\n"
+    "Several directories (references rendered with different --seed) are merged per case, each image\n"
+    "weighted by its path count (1 / its mean squared noise); a case uses every directory that has it.\n"
     "Exit status: 0 all cases within the targets, 1 a case misses them, 2 usage or input error.";
 
 }  // namespace
@@ -277,6 +303,7 @@ int sky_accuracy_command(const std::vector<std::string>& args) {
   rs.seed = uint64_t(o.integer("seed", 1, 0, 1 << 30));
   const std::string out = o.text("out", "");
   const std::string stored = o.text("reference", "");
+  const std::vector<std::string> stored_dirs = split_list(stored);
   if (!out.empty()) std::filesystem::create_directories(out);
   JobSystem jobs(thread_option(o));
   AtmosphereSettings full = setup.settings;
@@ -312,7 +339,9 @@ int sky_accuracy_command(const std::vector<std::string>& args) {
       std::vector<float> ref_y(dirs.size()), ref_noise;
       double ref_ms = 0.0;
       if (!stored.empty()) {
-        read_reference_exr(stored + "/" + name + "_reference.exr", w, h, ref_y, ref_noise);
+        ReferenceLuminance merged = read_references(stored_dirs, std::string(name) + "_reference.exr", w, h);
+        ref_y = std::move(merged.luminance);
+        ref_noise = std::move(merged.noise);
       } else {
         ReferenceView view;
         view.origin = glm::dvec3(0.0, c.frame.model.bottom_radius + setup.scene.ground_altitude + alt, 0.0);

@@ -1,0 +1,46 @@
+#include "atmosphere/reference_merge.h"
+
+#include <cmath>
+
+#include "engine/core/error.h"
+
+namespace cr {
+
+ReferenceLuminance merge_references(const std::vector<ReferenceLuminance>& refs, const std::string& what) {
+  if (refs.empty()) throw InputError(what, "no reference to merge");
+  const size_t n = refs[0].luminance.size();
+  std::vector<double> weight(refs.size());
+  for (size_t k = 0; k < refs.size(); ++k) {
+    const ReferenceLuminance& r = refs[k];
+    if (r.luminance.size() != n || r.noise.size() != n)
+      throw InputError(what, "references of different sizes cannot be merged");
+    for (size_t j = 0; j < k; ++j)
+      if (refs[j].luminance == r.luminance)
+        throw InputError(what, "references " + std::to_string(j + 1) + " and " + std::to_string(k + 1) +
+                                   " are the same image (same --seed): merging them would understate the noise");
+    double mean_var = 0.0;
+    for (float s : r.noise) mean_var += double(s) * s;
+    mean_var /= double(n ? n : 1);
+    // A noiseless reference (exact) outweighs any noisy one.
+    weight[k] = mean_var > 0.0 ? 1.0 / mean_var : 1e300;
+  }
+  if (refs.size() == 1) return refs[0];
+  double total = 0.0;
+  for (double w : weight) total += w;
+  ReferenceLuminance out;
+  out.luminance.resize(n);
+  out.noise.resize(n);
+  for (size_t i = 0; i < n; ++i) {
+    double y = 0.0, var = 0.0;
+    for (size_t k = 0; k < refs.size(); ++k) {
+      const double w = weight[k] / total;
+      y += w * refs[k].luminance[i];
+      var += w * w * double(refs[k].noise[i]) * refs[k].noise[i];
+    }
+    out.luminance[i] = float(y);
+    out.noise[i] = float(std::sqrt(var));
+  }
+  return out;
+}
+
+}  // namespace cr
