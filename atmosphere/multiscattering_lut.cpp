@@ -35,6 +35,11 @@ struct AltitudeMarch {
   std::vector<float> tx_over_r, y_over_r, row_r, row_d_min, row_inv_d_range, row_top2_minus_r2, row_mu_horizon,
       row_penumbra;
   std::vector<Float4> rayleigh_weight, mie_weight;  // the steps' weights as rgb + pad
+  // For the explicit orders (MultiScatteringLut::add_field_rows): the steps'
+  // altitude coordinates in the LUT, the same for every sun angle of the row,
+  // and their total scattering weight (isotropic re-scattering).
+  std::vector<LutCoord> field_y;
+  std::vector<Float4> scatter_weight;
 };
 
 namespace {
@@ -189,6 +194,23 @@ __attribute__((noinline)) void sun_lookups(size_t n, int width, float sin_s, flo
   }
 }
 
+// The LUT column coordinates of every step's sun angle for one sun angle
+// (sin_s, mu_s), as sample_field() computes them: one loop that vectorizes.
+__attribute__((noinline)) void field_columns(size_t n, int width, float sin_s, float mu_s,
+                                             const float* __restrict tx_over_r, const float* __restrict y_over_r,
+                                             int* __restrict x0, int* __restrict x1, float* __restrict wx) {
+  for (size_t k = 0; k < n; ++k) {
+    // std::min / std::max, not nested selects: with to_unit's select GCC's if-conversion gives up.
+    const float mu = std::max(-1.0f, std::min(1.0f, tx_over_r[k] * sin_s + y_over_r[k] * mu_s));
+    const float u = std::max(0.0f, std::min(1.0f, MultiScatteringMapping::to_unit(mu)));
+    const float x = u * float(width - 1);
+    const int i0 = int(x) < width - 1 ? int(x) : width - 1;
+    x0[k] = i0;
+    x1[k] = i0 + 1 < width - 1 ? i0 + 1 : width - 1;
+    wx[k] = x - float(i0);
+  }
+}
+
 // What integrate_sun gives for one texel: the second-order luminance's
 // sphere mean l2 and its moments, and the transfer factor f_ms.
 struct SecondOrder {
@@ -298,7 +320,8 @@ void MultiScatteringLut::bake(size_t begin, size_t end, const TransmittanceLut& 
     const int y = int(i0 / size_t(w));
     const size_t row_end = std::min(end, size_t(pass) * count + size_t(y + 1) * size_t(w));
     const float altitude = float(y) / float(image_.height - 1) * float(model_.atmosphere_height());
-    const AltitudeMarch am = march_altitude(model_, transmittance, altitude, directions_, steps_, ground_irradiance_);
+    AltitudeMarch am = march_altitude(model_, transmittance, altitude, directions_, steps_, ground_irradiance_);
+    if (pass > 0) add_field_rows(am);
     for (; item < row_end; ++item) {
       const size_t i = item % count;
       const float mu_s = MultiScatteringMapping::from_unit(float(i % size_t(w)) / float(w - 1));
@@ -357,14 +380,21 @@ void MultiScatteringLut::bake_higher_order(const AltitudeMarch& am, int pass, si
 // the light the medium scatters onto it (as in f_ms).
 glm::vec3 MultiScatteringLut::march_field(const AltitudeMarch& am, const float* previous, float mu_s) const {
   const float sin_s = std::sqrt(std::max(0.0f, 1.0f - mu_s * mu_s));
-  const float bottom = float(model_.bottom_radius);
+  const size_t n = am.steps.size();
+  thread_local std::vector<int> x0, x1;
+  thread_local std::vector<float> wx;
+  x0.resize(n);
+  x1.resize(n);
+  wx.resize(n);
+  const int w = image_.width;
+  field_columns(n, w, sin_s, mu_s, am.tx_over_r.data(), am.y_over_r.data(), x0.data(), x1.data(), wx.data());
   glm::vec3 sum(0.0f);
   const size_t dirs = am.fms.size();
   for (size_t d = 0; d < dirs; ++d) {
     Float4 l{};
     for (size_t k = d * size_t(steps_); k < (d + 1) * size_t(steps_); ++k) {
-      const float mu = std::clamp(am.tx_over_r[k] * sin_s + am.y_over_r[k] * mu_s, -1.0f, 1.0f);
-      l += (am.rayleigh_weight[k] + am.mie_weight[k]) * sample_field(previous, am.row_r[k] - bottom, mu);
+      const LutCoord& y = am.field_y[k];
+      l += am.scatter_weight[k] * bilinear4(previous, w, x0[k], x1[k], wx[k], y.i0, y.i1, y.w);
     }
     glm::vec3 ld = to_vec3(l);
     if (am.ground_tp[d] != glm::vec3(0.0f)) {
@@ -374,6 +404,22 @@ glm::vec3 MultiScatteringLut::march_field(const AltitudeMarch& am, const float* 
     sum += ld * am.dir_weight[d];
   }
   return sum;
+}
+
+void MultiScatteringLut::add_field_rows(AltitudeMarch& am) const {
+  const size_t n = am.steps.size();
+  const float bottom = float(model_.bottom_radius);
+  am.field_y.resize(n);
+  am.scatter_weight.resize(n);
+  for (size_t k = 0; k < n; ++k) {
+    am.field_y[k] = field_row(am.row_r[k] - bottom);
+    am.scatter_weight[k] = am.rayleigh_weight[k] + am.mie_weight[k];
+  }
+}
+
+LutCoord MultiScatteringLut::field_row(float altitude) const {
+  const int h = image_.height;
+  return lut_coord(std::clamp(altitude, 0.0f, 1.0f / inv_top_altitude_) * (float(h - 1) * inv_top_altitude_), h);
 }
 
 // The ground lit by the once-scattered sky (the second-order field's upper
@@ -393,10 +439,10 @@ glm::vec3 MultiScatteringLut::ground_skylight(const AltitudeMarch& am, float mu_
 }
 
 Float4 MultiScatteringLut::sample_field(const float* field, float altitude, float mu) const {
-  const int w = image_.width, h = image_.height;
+  const int w = image_.width;
   const float x = std::clamp(MultiScatteringMapping::to_unit(mu), 0.0f, 1.0f) * float(w - 1);
   const int x0 = std::min(int(x), w - 1), x1 = std::min(x0 + 1, w - 1);
-  const LutCoord yc = lut_coord(std::clamp(altitude, 0.0f, 1.0f / inv_top_altitude_) * (float(h - 1) * inv_top_altitude_), h);
+  const LutCoord yc = field_row(altitude);
   return bilinear4(field, w, x0, x1, x - float(x0), yc.i0, yc.i1, yc.w);
 }
 

@@ -114,6 +114,8 @@ class MultiScatteringLut {
                          bool ground_row);
   void bake_higher_order(const AltitudeMarch& am, int pass, size_t i, float mu_s);
   glm::vec3 march_field(const AltitudeMarch& am, const float* previous, float mu_s) const;
+  void add_field_rows(AltitudeMarch& am) const;
+  LutCoord field_row(float altitude) const;  // a field's altitude coordinate
   glm::vec3 ground_skylight(const AltitudeMarch& am, float mu_s) const;
   glm::vec3 ground_sky(float mu) const;  // ground_sky_ at a sun cosine
   // A field_ (rgb + pad texels) at an altitude and sun cosine, bilinear, clamped to the LUT.
