@@ -20,6 +20,9 @@ inline double distance_to_sphere_exit(double r, double mu, double radius) {
 // Distance to the first hit of the ground sphere from outside/on it, or -1.
 inline double distance_to_ground(double r, double mu, double ground_radius) {
   if (mu >= 0.0) return -1.0;
+  // On (or under) the ground looking down, the ground is here; computed, the
+  // discriminant and t round to either side of 0 and half such rays missed it.
+  if (r <= ground_radius) return 0.0;
   const double disc = r * r * (mu * mu - 1.0) + ground_radius * ground_radius;
   if (disc < 0.0) return -1.0;
   const double t = -r * mu - std::sqrt(disc);

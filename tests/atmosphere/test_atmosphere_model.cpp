@@ -143,6 +143,22 @@ TEST_CASE("transmittance through an exponential atmosphere matches the vertical 
   for (int c = 0; c < 3; ++c) CHECK(lut_slant[c] == doctest::Approx(slant[c]).epsilon(5e-3));
 }
 
+TEST_CASE("rays from the ground: every downward one hits it at once, every upward one misses it") {
+  const double R = AtmosphereModel{}.bottom_radius;
+  int hits = 0;
+  for (int i = 1; i < 1000; ++i) {
+    const double mu = -double(i) / 1000.0;
+    const double t = distance_to_ground(R, mu, R);
+    hits += t == 0.0 ? 1 : 0;
+    CHECK(distance_to_ground(R, -mu, R) == -1.0);
+    // From 1 m above it: the near root in its cancellation-free form, (r^2 - R^2) / (-r mu + sqrt(disc)).
+    const long double r = R + 1.0, c = (r - R) * (r + R), m = mu;
+    const long double near = c / (-r * m + std::sqrt(r * r * m * m - c));
+    CHECK(distance_to_ground(R + 1.0, mu, R) == doctest::Approx(double(near)).epsilon(1e-6));
+  }
+  CHECK(hits == 999);
+}
+
 TEST_CASE("the sun is shadowed by the planet with a smooth edge") {
   AtmosphereModel m;
   TransmittanceLut lut(m, 256, 64, 40);

@@ -122,7 +122,7 @@ TEST_CASE("multi-scattering LUT matches a brute-force evaluation of its integral
   struct Point {
     double h, mu_s, tolerance;
   };
-  for (const Point p : {Point{3300.0, 1.0, 0.10}, Point{3000.0, 0.6, 0.10}, Point{10000.0, 0.07, 0.10},
+  for (const Point p : {Point{0.0, 1.0, 0.10}, Point{3300.0, 1.0, 0.10}, Point{3000.0, 0.6, 0.10}, Point{10000.0, 0.07, 0.10},
                         Point{0.0, 0.2, 0.20}, Point{0.0, 0.0, 0.22}}) {
     // Texel-centred points: h = j/31 * 100 km, mu_s at unit x = i/31.
     const double hh = std::round(p.h / (100e3 / 31.0)) * (100e3 / 31.0);
