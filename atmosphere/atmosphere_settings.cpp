@@ -1,5 +1,7 @@
 #include "atmosphere/atmosphere_settings.h"
 
+#include <algorithm>
+
 #include "atmosphere/config_fields.h"
 
 namespace cr {
@@ -28,6 +30,10 @@ AtmosphereSettings parse_atmosphere_settings(const nlohmann::json& section, cons
   s.multiscattering_width = ms.integer("width", s.multiscattering_width, 4, 1024);
   s.multiscattering_height = ms.integer("height", s.multiscattering_height, 4, 1024);
   s.multiscattering_explicit_orders = ms.integer("explicit_orders", s.multiscattering_explicit_orders, 0, 8);
+  s.multiscattering_max_explicit_orders =
+      ms.integer("max_explicit_orders", std::max(s.multiscattering_max_explicit_orders, s.multiscattering_explicit_orders),
+                 s.multiscattering_explicit_orders, 8);
+  s.multiscattering_tail_share = float(ms.number("tail_share", s.multiscattering_tail_share, 1e-6, 1.0));
   s.multiscattering_directions = ms.integer("directions", s.multiscattering_directions, 4, 4096);
   s.multiscattering_steps = ms.integer("steps", s.multiscattering_steps, 1, 4096);
   s.multiscattering_max_fms = float(ms.number("max_fms", s.multiscattering_max_fms, 0.0, 0.999));

@@ -25,7 +25,11 @@ struct AtmosphereSettings {
 
   int multiscattering_width = 64;   // sun zenith axis (Psi falls steeply into Earth's shadow)
   int multiscattering_height = 32;  // altitude axis
-  int multiscattering_explicit_orders = 1;  // orders above the second marched before the series
+  // Orders above the second marched before the series: explicit_orders_for()
+  // picks between these two by f_ms (tail_share 1: always the minimum).
+  int multiscattering_explicit_orders = 0;
+  int multiscattering_max_explicit_orders = 4;
+  float multiscattering_tail_share = 0.15f;
   int multiscattering_directions = 64;  // n*n stratified directions, n even
   int multiscattering_steps = 20;
   float multiscattering_max_fms = 0.95f;  // clamp of the series ratio: 1/(1 - f_ms) <= 20

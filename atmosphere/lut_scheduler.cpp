@@ -182,6 +182,19 @@ AtmospherePlan LutScheduler::plan(const AtmosphereFrameInputs& inputs) const {
   return p;
 }
 
+ExplicitOrderChoice explicit_orders_for(const AtmosphereModel& model, const AtmosphereSettings& s) {
+  return explicit_orders_for(model, s.multiscattering_height, s.multiscattering_directions, s.multiscattering_steps,
+                             s.multiscattering_max_fms, s.multiscattering_explicit_orders,
+                             s.multiscattering_max_explicit_orders, s.multiscattering_tail_share);
+}
+
+std::shared_ptr<MultiScatteringLut> new_multiscattering_lut(const AtmosphereModel& model, const AtmosphereSettings& s,
+                                                            int explicit_orders) {
+  return std::make_shared<MultiScatteringLut>(model, s.multiscattering_width, s.multiscattering_height,
+                                              s.multiscattering_directions, s.multiscattering_steps,
+                                              s.multiscattering_max_fms, explicit_orders);
+}
+
 void bake_in_jobs(MultiScatteringLut& lut, size_t begin, size_t end, size_t granule, const TransmittanceLut& t,
                   JobSystem& jobs, const std::string& name) {
   for (int p = 0; p < lut.passes(); ++p) {
@@ -249,9 +262,12 @@ void LutScheduler::run(LutKind kind, const AtmospherePlan& plan, JobSystem& jobs
         begin_rebuild(ms_);
         ms_.b_t = t_.front;
         ms_.b_upstream = t_.version;
-        ms_.back = std::make_shared<MultiScatteringLut>(
-            ms_.b_t->model(), s.multiscattering_width, s.multiscattering_height, s.multiscattering_directions,
-            s.multiscattering_steps, s.multiscattering_max_fms, s.multiscattering_explicit_orders);
+        const AtmosphereModel& m = ms_.b_t->model();
+        if (!ms_orders_model_ || !(*ms_orders_model_ == m)) {
+          ms_orders_ = explicit_orders_for(m, s);
+          ms_orders_model_ = std::make_shared<const AtmosphereModel>(m);
+        }
+        ms_.back = new_multiscattering_lut(m, s, ms_orders_.orders);
       }
       MultiScatteringLut& lut = *ms_.back;
       const TransmittanceLut& t = *ms_.b_t;
@@ -340,6 +356,7 @@ nlohmann::json LutScheduler::report(const AtmospherePlan& plan) const {
   if (ms_.front) {
     j["multiscattering_clamped_texels"] = ms_.front->clamped_texels();
     j["multiscattering_max_fms"] = ms_.front->max_fms_seen();
+    j["multiscattering_explicit_orders"] = ms_.front->explicit_orders();
   }
   return j;
 }

@@ -132,6 +132,9 @@ class LutScheduler {
   AtmosphereSettings settings_;
   AtmosphereModel model_;
   uint64_t model_version_ = 1;
+  // The multi-scattering LUT's explicit orders and the atmosphere they were chosen for.
+  ExplicitOrderChoice ms_orders_;
+  std::shared_ptr<const AtmosphereModel> ms_orders_model_;
   Slot<TransmittanceLut> t_;
   Slot<MultiScatteringLut> ms_;
   Slot<SkyViewLut> sv_;
@@ -142,6 +145,13 @@ class LutScheduler {
 
 // Slice `s` of `slices` over `items`, aligned down to multiples of `granule`.
 size_t slice_begin(size_t items, size_t granule, int s, int slices);
+
+// The explicit orders an atmosphere needs at the profile's settings
+// (explicit_orders_for: ~1 ms, so once per atmosphere, not per bake), and
+// the multi-scattering LUT with them.
+ExplicitOrderChoice explicit_orders_for(const AtmosphereModel& model, const AtmosphereSettings& s);
+std::shared_ptr<MultiScatteringLut> new_multiscattering_lut(const AtmosphereModel& model, const AtmosphereSettings& s,
+                                                            int explicit_orders);
 
 // lut.bake(begin, end) as jobs of `granule` items, one parallel_for per pass
 // it spans (a pass needs all of the previous one).

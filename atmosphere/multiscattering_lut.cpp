@@ -87,7 +87,8 @@ glm::vec3 ground_irradiance_per_unit_field(const AtmosphereModel& m, int bands, 
   return e;
 }
 
-AltitudeMarch march_altitude(const AtmosphereModel& m, const TransmittanceLut& lut, float altitude,
+// lut: null when only the medium's terms are wanted (no sun lookups follow).
+AltitudeMarch march_altitude(const AtmosphereModel& m, const TransmittanceLut* lut, float altitude,
                              int directions, int steps, const glm::vec3& ground_irradiance) {
   const int n = int(std::lround(std::sqrt(double(directions))));
   const int half = n / 2;  // mirror symmetry about the sun plane: half the azimuths, weight 2
@@ -103,7 +104,7 @@ AltitudeMarch march_altitude(const AtmosphereModel& m, const TransmittanceLut& l
   am.ground_tp.assign(size_t(dir_count), glm::vec3(0.0f));
   am.ground_x.assign(size_t(dir_count), 0.0f);
   am.ground_y.assign(size_t(dir_count), 0.0f);
-  am.ground_row.assign(size_t(dir_count), lut.row(0.0f));
+  am.ground_row.assign(size_t(dir_count), lut ? lut->row(0.0f) : TransmittanceRow{});
   am.dir_weight.assign(size_t(dir_count), 0.0f);
   am.dir_x.assign(size_t(dir_count), 0.0f);
   am.dir_y.assign(size_t(dir_count), 0.0f);
@@ -139,7 +140,7 @@ AltitudeMarch march_altitude(const AtmosphereModel& m, const TransmittanceLut& l
         s.y_over_r = float(r0 + double(t) * dir_y) / r;
         s.rayleigh_weight = throughput * med.rayleigh_scattering * seg;
         s.mie_weight = throughput * med.mie_scattering * seg;
-        s.row = lut.row(h);
+        s.row = lut ? lut->row(h) : TransmittanceRow{};
         am.fms[size_t(d)] += throughput * med.scattering * seg;
         throughput *= step_t;
       }
@@ -286,6 +287,29 @@ SecondOrder integrate_sun(const AtmosphereModel& m, const AltitudeMarch& am, con
 
 }  // namespace
 
+ExplicitOrderChoice explicit_orders_for(const AtmosphereModel& model, int height, int directions, int steps,
+                                        float max_fms, int min_orders, int max_orders, float tail_share) {
+  const int bands = int(std::lround(std::sqrt(double(directions))));
+  const glm::vec3 ground_irradiance = ground_irradiance_per_unit_field(model, bands, steps);
+  ExplicitOrderChoice c;
+  for (int y = 0; y < height; ++y) {
+    // The bake's row altitude and sum (bake(), integrate_sun()).
+    const float altitude = float(y) / float(height - 1) * float(model.atmosphere_height());
+    const AltitudeMarch am = march_altitude(model, nullptr, altitude, directions, steps, ground_irradiance);
+    glm::vec3 f(0.0f);
+    for (size_t d = 0; d < am.fms.size(); ++d) f += am.fms[d] * am.dir_weight[d];
+    c.max_fms = std::max(c.max_fms, std::max(f.x, std::max(f.y, f.z)));
+  }
+  const float fc = std::min(c.max_fms, max_fms);
+  c.orders = min_orders;
+  float share = std::pow(fc, float(min_orders + 1));
+  while (c.orders < max_orders && share > tail_share) {
+    ++c.orders;
+    share *= fc;
+  }
+  return c;
+}
+
 MultiScatteringLut::MultiScatteringLut(const AtmosphereModel& model, int width, int height, int directions, int steps,
                                        float max_fms, int explicit_orders)
     : model_(model),
@@ -320,7 +344,7 @@ void MultiScatteringLut::bake(size_t begin, size_t end, const TransmittanceLut& 
     const int y = int(i0 / size_t(w));
     const size_t row_end = std::min(end, size_t(pass) * count + size_t(y + 1) * size_t(w));
     const float altitude = float(y) / float(image_.height - 1) * float(model_.atmosphere_height());
-    AltitudeMarch am = march_altitude(model_, transmittance, altitude, directions_, steps_, ground_irradiance_);
+    AltitudeMarch am = march_altitude(model_, &transmittance, altitude, directions_, steps_, ground_irradiance_);
     if (pass > 0) add_field_rows(am);
     for (; item < row_end; ++item) {
       const size_t i = item % count;

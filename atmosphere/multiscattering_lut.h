@@ -12,7 +12,8 @@
 //     order's field at every step's own altitude and sun angle (Hillaire's
 //     series assumes they are as dark as the texel's own, which in Earth's
 //     shadow they are not); the geometric series 1 / (1 - f_ms) covers the
-//     rest from the last one.
+//     rest from the last one. How many an atmosphere needs depends on f_ms:
+//     see explicit_orders_for().
 //  3. The ground lit by the once-scattered sky reflects it (f_ms has the
 //     ground reflect only what the medium scatters onto it).
 // The bake runs in passes(): pass 0 the second order, pass p the order p + 2;
@@ -76,6 +77,20 @@ struct MultiScatteringMapping {
 // moments as sphere means), which for Rayleigh (k_1 = 0, k_2 = 1/10) is v^T A v / 4.
 enum MsMoment { kMsQuadXX, kMsQuadYY, kMsQuadXY, kMsFirstX, kMsFirstY, kMsMomentCount };
 
+// The explicit orders an atmosphere needs: the fewest k in [min_orders,
+// max_orders] for which the series' share f^(k+1) is at most tail_share, f
+// being the largest f_ms of a LUT of `height` altitude rows (the bake's own
+// march of each row, without the transmittance LUT: f_ms does not depend on
+// the sun), clamped to max_fms. The series is least accurate where it
+// carries most (dense air: f near 1), while thin air needs none; tail_share
+// 1 gives min_orders.
+struct ExplicitOrderChoice {
+  float max_fms = 0.0f;  // f (largest channel and row)
+  int orders = 0;
+};
+ExplicitOrderChoice explicit_orders_for(const AtmosphereModel& model, int height, int directions, int steps,
+                                        float max_fms, int min_orders, int max_orders, float tail_share);
+
 class MultiScatteringLut {
  public:
   MultiScatteringLut() = default;
@@ -88,6 +103,7 @@ class MultiScatteringLut {
   void bake(size_t begin, size_t end, const TransmittanceLut& transmittance);
   size_t texel_count() const { return image_.count(); }
   int passes() const { return int(fields_.size()); }
+  int explicit_orders() const { return explicit_orders_; }
   size_t work_items() const { return texel_count() * size_t(passes()); }
 
   // Psi_ms for unit sun illuminance: in-scattered luminance per unit scattering coefficient.

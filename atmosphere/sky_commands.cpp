@@ -429,8 +429,9 @@ double time_bake(LutKind kind, const LutScheduler& base, const AtmosphereFrameIn
       return timed(lut.texel_count(), size_t(s.transmittance_width), [&](size_t b, size_t e) { lut.bake(b, e); });
     }
     case LutKind::MultiScattering: {
-      MultiScatteringLut lut(m, s.multiscattering_width, s.multiscattering_height, s.multiscattering_directions,
-                             s.multiscattering_steps, s.multiscattering_max_fms, s.multiscattering_explicit_orders);
+      // The scheduler's own explicit orders, chosen once for this atmosphere.
+      const std::shared_ptr<MultiScatteringLut> made = new_multiscattering_lut(m, s, ms.explicit_orders());
+      MultiScatteringLut& lut = *made;
       const size_t granule = size_t(s.multiscattering_width);
       const size_t b = slice_begin(lut.work_items(), granule, slice, slices);
       const size_t e = slice_begin(lut.work_items(), granule, slice + 1, slices);
@@ -543,11 +544,14 @@ int sky_bench_command(const std::vector<std::string>& args) {
   std::vector<unsigned> thread_counts{1};
   if (all_threads > 1) thread_counts.push_back(all_threads);
   std::printf("sky-bench: preset %s, median of %d runs\n", setup.scene.preset.c_str(), repeat);
-  std::printf("LUT sizes: transmittance %dx%d/%d steps, multi-scattering %dx%d x %d dirs x %d steps + %d orders, sky-view %dx%d "
-              "(%d-%d steps), AP %dx%dx%d (%g km/slice)\n",
+  const double o0 = now_ms();
+  const ExplicitOrderChoice orders = explicit_orders_for(setup.scene.model, s);
+  const double orders_ms = now_ms() - o0;
+  std::printf("LUT sizes: transmittance %dx%d/%d steps, multi-scattering %dx%d x %d dirs x %d steps + %d explicit "
+              "orders (f_ms up to %.3f; chosen in %.2f ms, once per atmosphere), sky-view %dx%d (%d-%d steps), AP %dx%dx%d (%g km/slice)\n",
               s.transmittance_width, s.transmittance_height, s.transmittance_steps, s.multiscattering_width,
-              s.multiscattering_height, s.multiscattering_directions, s.multiscattering_steps,
-              s.multiscattering_explicit_orders, s.skyview_width, s.skyview_height,
+              s.multiscattering_height, s.multiscattering_directions, s.multiscattering_steps, orders.orders,
+              double(orders.max_fms), orders_ms, s.skyview_width, s.skyview_height,
               s.skyview_min_steps, s.skyview_max_steps, s.ap_width, s.ap_height, s.ap_depth, s.ap_km_per_slice);
   std::map<unsigned, std::array<double, kLutKinds>> full_ms, slice_ms;
   std::map<unsigned, CompositeTime> composite_ms, space_ms;

@@ -275,6 +275,13 @@ TEST_CASE("profile settings: defaults, overrides and errors") {
   CHECK(message({{"schedule", {{"skyview", {{"period", 2}, {"slices", 4}}}}}}).find("atmosphere.schedule.skyview.slices") !=
         std::string::npos);
   CHECK(message({{"multiscattering_lut", {{"directions", 60}}}}).find("directions") != std::string::npos);
+  CHECK(message({{"multiscattering_lut", {{"explicit_orders", 3}, {"max_explicit_orders", 2}}}})
+            .find("atmosphere.multiscattering_lut.max_explicit_orders") != std::string::npos);
+  CHECK(message({{"multiscattering_lut", {{"tail_share", 0}}}}).find("atmosphere.multiscattering_lut.tail_share") !=
+        std::string::npos);
+  // A minimum above the default maximum raises the maximum with it.
+  CHECK(parse_atmosphere_settings({{"multiscattering_lut", {{"explicit_orders", 6}}}}, "p.json")
+            .multiscattering_max_explicit_orders == 6);
   CHECK(message({{"transmittance_lut", {{"size", 3}}}}).find("atmosphere.transmittance_lut.size: unknown key") !=
         std::string::npos);
   CHECK(message({{"space_fallback_altitude_m", "high"}}).find("atmosphere.space_fallback_altitude_m") !=
