@@ -265,7 +265,7 @@ void LutScheduler::run(LutKind kind, const AtmospherePlan& plan, JobSystem& jobs
         const AtmosphereModel& m = ms_.b_t->model();
         if (!ms_orders_model_ || !(*ms_orders_model_ == m)) {
           ms_orders_ = explicit_orders_for(m, s);
-          ms_orders_model_ = std::make_shared<const AtmosphereModel>(m);
+          ms_orders_model_ = m;
         }
         ms_.back = new_multiscattering_lut(m, s, ms_orders_.orders);
       }

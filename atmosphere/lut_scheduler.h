@@ -27,6 +27,7 @@
 #include <functional>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -134,7 +135,7 @@ class LutScheduler {
   uint64_t model_version_ = 1;
   // The multi-scattering LUT's explicit orders and the atmosphere they were chosen for.
   ExplicitOrderChoice ms_orders_;
-  std::shared_ptr<const AtmosphereModel> ms_orders_model_;
+  std::optional<AtmosphereModel> ms_orders_model_;
   Slot<TransmittanceLut> t_;
   Slot<MultiScatteringLut> ms_;
   Slot<SkyViewLut> sv_;

@@ -98,6 +98,16 @@ TEST_CASE("invalidation follows the dependency graph") {
     const AtmospherePlan q = run_frame(s, 2, camera_at(2.0), sun, jobs);
     CHECK(work(q, LutKind::Transmittance) == "-");
   }
+  SUBCASE("a parameter change chooses the multi-scattering LUT's explicit orders again") {
+    CHECK(s.multiscattering()->explicit_orders() == explicit_orders_for(AtmosphereModel(), settings).orders);
+    const AtmosphereModel dense = atmosphere_preset("earth-dense"), thin = atmosphere_preset("earth-thin");
+    s.set_model(dense);
+    run_frame(s, 1, camera_at(2.0), sun, jobs);
+    CHECK(s.multiscattering()->explicit_orders() == settings.multiscattering_max_explicit_orders);
+    s.set_model(thin);
+    run_frame(s, 2, camera_at(2.0), sun, jobs);
+    CHECK(s.multiscattering()->explicit_orders() == settings.multiscattering_explicit_orders);
+  }
 }
 
 TEST_CASE("time slicing never exposes a half-updated LUT and ends bit-identical to a one-shot build") {
