@@ -67,13 +67,19 @@ class Options {
     if (v != std::floor(v)) throw InputError(kCommandLine, "--" + k + " must be an integer");
     return int(v);
   }
-  std::vector<double> list(const std::string& k, const std::vector<double>& fallback, double lo, double hi) const {
+  // The comma-separated items of --k (empty items kept; none if it is absent).
+  std::vector<std::string> items(const std::string& k) const {
+    std::vector<std::string> out;
     auto it = values_.find(k);
-    if (it == values_.end()) return fallback;
-    std::vector<double> out;
+    if (it == values_.end()) return out;
     std::stringstream ss(it->second);
-    std::string item;
-    while (std::getline(ss, item, ',')) {
+    for (std::string item; std::getline(ss, item, ',');) out.push_back(item);
+    return out;
+  }
+  std::vector<double> list(const std::string& k, const std::vector<double>& fallback, double lo, double hi) const {
+    if (!has(k)) return fallback;
+    std::vector<double> out;
+    for (const std::string& item : items(k)) {
       char* end = nullptr;
       const double v = std::strtod(item.c_str(), &end);
       if (item.empty() || *end != '\0' || !std::isfinite(v) || v < lo || v > hi)
@@ -255,15 +261,6 @@ ReferenceLuminance read_references(const std::vector<std::string>& dirs, const s
   return merge_references(refs, file);
 }
 
-std::vector<std::string> split_list(const std::string& text) {
-  std::vector<std::string> out;
-  std::stringstream ss(text);
-  std::string item;
-  while (std::getline(ss, item, ','))
-    if (!item.empty()) out.push_back(item);
-  return out;
-}
-
 const char* const kAccuracyUsage =
     "usage: sky-accuracy [--preset NAME | --scene FILE] [--profile FILE] [--sun-zenith 0,45,80,90,95]\n"
     "                    [--altitude 1,1000,10000] [--width 48] [--height 24] [--spp 4096] [--seed 1]\n"
@@ -303,7 +300,8 @@ int sky_accuracy_command(const std::vector<std::string>& args) {
   rs.seed = uint64_t(o.integer("seed", 1, 0, 1 << 30));
   const std::string out = o.text("out", "");
   const std::string stored = o.text("reference", "");
-  const std::vector<std::string> stored_dirs = split_list(stored);
+  std::vector<std::string> stored_dirs = o.items("reference");
+  std::erase(stored_dirs, std::string());
   if (!out.empty()) std::filesystem::create_directories(out);
   JobSystem jobs(thread_option(o));
   AtmosphereSettings full = setup.settings;
