@@ -65,7 +65,7 @@ std::vector<glm::vec3> froxel_frame(FroxelFog& fog, const FrameView& view, const
   fog.density();
   t.density = ms_since(t0);
   t0 = std::chrono::steady_clock::now();
-  fog.lighting(base.shadow_map(), jobs);
+  fog.lighting(base.shadow_map(), jobs, &base.previous_shadow_map());
   t.lighting = ms_since(t0);
   t0 = std::chrono::steady_clock::now();
   fog.reproject(jobs);

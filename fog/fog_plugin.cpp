@@ -32,7 +32,7 @@ void FogPlugin::add_passes(FrameGraph& graph, FrameContext& ctx) {
       [](FrameGraph::Builder& b) {
         b.read("fog.density").read("shadow_map").write("fog.lighting");
       },
-      [fog, c] { fog->lighting(c->shadow, c->jobs); });
+      [fog, c] { fog->lighting(c->shadow, c->jobs, &c->previous_shadow); });
   std::string sun = "fog.lighting";
   if (p.reprojection) {
     graph.add_pass(
@@ -68,6 +68,7 @@ void FogPlugin::report_frame(nlohmann::json& frame) {
   frame["active_froxels"] = s.active_froxels;
   frame["history_used"] = s.history_used;
   frame["history_rejected_froxels"] = s.reproject.rejected;
+  frame["light_changed"] = s.light_changed;
 }
 
 }  // namespace cr

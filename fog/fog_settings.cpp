@@ -88,7 +88,8 @@ FogProfileSettings parse_fog_profile(const nlohmann::json& section, const std::s
   FogProfileSettings s;
   const JsonObject o(section, file, "fog");
   o.allow_only({"froxel_size_px", "slices", "fog_distance", "slice_uniformity", "density_samples",
-                "history_weight", "filter", "jitter", "reprojection", "history_clamp"});
+                "history_weight", "filter", "jitter", "reprojection", "history_clamp",
+                "light_change_rejection"});
   if (o.has("froxel_size_px")) s.froxel_size_px = o.integer("froxel_size_px", 1, 256);
   if (o.has("slices")) s.slices = o.integer("slices", 1, 1024);
   if (o.has("fog_distance")) s.fog_distance = float(o.number("fog_distance", {0.01, 1e7}));
@@ -99,6 +100,7 @@ FogProfileSettings parse_fog_profile(const nlohmann::json& section, const std::s
   if (o.has("jitter")) s.jitter = o.boolean("jitter");
   if (o.has("reprojection")) s.reprojection = o.boolean("reprojection");
   if (o.has("history_clamp")) s.history_clamp = o.boolean("history_clamp");
+  if (o.has("light_change_rejection")) s.light_change_rejection = o.boolean("light_change_rejection");
   return s;
 }
 

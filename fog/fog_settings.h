@@ -22,6 +22,7 @@ struct FogProfileSettings {
   bool jitter = true;              // 7-frame sample sequence
   bool reprojection = true;        // temporal blend with the reprojected history
   bool history_clamp = true;       // clamp history to the current 3x3 neighbourhood (less ghosting)
+  bool light_change_rejection = true;  // trust history less where a moving sun changed the sample's visibility
 };
 
 enum class FogPhase { HenyeyGreenstein, CornetteShanks };

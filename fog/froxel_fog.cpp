@@ -30,15 +30,23 @@ void FroxelFog::density() {
   density_.resize(view_.grid.count());
 }
 
-void FroxelFog::lighting(const ShadowMap& shadow, JobSystem& jobs) {
+void FroxelFog::lighting(const ShadowMap& shadow, JobSystem& jobs, const ShadowMap* previous) {
   JitterInputs jitter;
   jitter.enabled = profile_.jitter;
   jitter.frame = frame_;
   jitter.samples = lighting_samples_;
   const VolumeShadow volume_shadow(shadow, view_.camera.position);
+  // The previous map matters only to history, and only when the sun itself
+  // moved (a camera move re-fits the map around the same light).
+  light_changed_ = use_history_ && profile_.light_change_rejection && previous && previous->size > 0 &&
+                   shadow.size > 0 && previous->direction_to_sun != shadow.direction_to_sun;
+  stats_.light_changed = light_changed_;
+  const VolumeShadow previous_shadow = light_changed_ ? VolumeShadow(*previous, view_.camera.position) : VolumeShadow();
   // Each job voxelises its rows right before lighting them (in cache).
-  light_froxels(view_, density_, volume_shadow, jitter, jobs, sun_current_,
-                [this](int y0, int y1) { voxelize_rows(view_, medium_, density_plan_, y0, y1, density_); });
+  light_froxels(
+      view_, density_, volume_shadow, jitter, jobs, sun_current_,
+      [this](int y0, int y1) { voxelize_rows(view_, medium_, density_plan_, y0, y1, density_); },
+      light_changed_ ? &previous_shadow : nullptr, light_changed_ ? &light_change_ : nullptr);
   blended_ = -1;
 }
 
@@ -47,7 +55,8 @@ void FroxelFog::reproject(JobSystem& jobs) {
   std::vector<float>& out = history_[current_];
   if (use_history_) {
     stats_.reproject = reproject_history(view_, sun_current_, history_view_, history_[1 - current_],
-                                         profile_.history_weight, profile_.history_clamp, jobs, out);
+                                         profile_.history_weight, profile_.history_clamp, jobs, out,
+                                         light_changed_ ? &light_change_ : nullptr);
   } else {
     out.swap(sun_current_);  // no history: the blend is the current light (lighting rewrites sun_current_)
   }
@@ -78,10 +87,10 @@ void FroxelFog::composite(FrameBuffers& buffers, int x0, int y0, int x1, int y1)
 }
 
 void FroxelFog::render(const FrameView& view, const LightEnvironment& light, const ShadowMap& shadow,
-                       JobSystem& jobs, const std::vector<float>* distance) {
+                       JobSystem& jobs, const std::vector<float>* distance, const ShadowMap* previous_shadow) {
   begin_frame(view, jobs, distance);
   density();
-  lighting(shadow, jobs);
+  lighting(shadow, jobs, previous_shadow);
   reproject(jobs);
   filter(jobs);
   integrate(light, jobs);

@@ -25,6 +25,7 @@ struct FroxelFogStats {
   VoxelizeStats voxelize;
   ReprojectStats reproject;
   bool history_used = false;
+  bool light_changed = false;  // the sun moved since the history: light change measured
 };
 
 class FroxelFog {
@@ -36,14 +37,17 @@ class FroxelFog {
   // given the same distances.
   void begin_frame(const FrameView& view, JobSystem& jobs, const std::vector<float>* distance = nullptr);
   void density();
-  void lighting(const ShadowMap& shadow, JobSystem& jobs);
+  // previous: last frame's shadow map (FrameContext::previous_shadow; size 0
+  // or null when there is none). Where the sun has moved since, the history
+  // is trusted less where the light changed (light_change_rejection).
+  void lighting(const ShadowMap& shadow, JobSystem& jobs, const ShadowMap* previous = nullptr);
   void reproject(JobSystem& jobs);
   void filter(JobSystem& jobs);
   void integrate(const LightEnvironment& light, JobSystem& jobs);
   void composite(FrameBuffers& buffers, int x0, int y0, int x1, int y1) const;
   // All steps but the composite, in order.
   void render(const FrameView& view, const LightEnvironment& light, const ShadowMap& shadow, JobSystem& jobs,
-              const std::vector<float>* distance = nullptr);
+              const std::vector<float>* distance = nullptr, const ShadowMap* previous_shadow = nullptr);
 
   // Non-temporal supersampling: average n samples of the jitter sequence per
   // froxel in one frame (the many-sample result reprojection converges to).
@@ -77,6 +81,8 @@ class FroxelFog {
   DensityPlan density_plan_;
   std::vector<FogDensity> density_;
   std::vector<float> sun_current_;
+  std::vector<float> light_change_;  // valid this frame when light_changed_
+  bool light_changed_ = false;
   std::vector<float> history_[2];  // [current_] written this frame, the other read
   int current_ = 0;
   FroxelView history_view_;

@@ -99,22 +99,35 @@ struct JitterInputs {
 // multiplies it). before_rows (optional) runs on each job's rows [y0, y1)
 // before they are lit: the voxelisation, so the density the lighting reads
 // is still in cache.
+//
+// With `previous` (last frame's shadow map, under a sun that has moved since)
+// and `light_change`, each sample is also looked up in the previous map, and
+// light_change gets |visibility now - visibility then| at the same point (the
+// temporal gradient of A-SVGF, exact where it is measured: the same point,
+// two lights): how much the light itself changed there, which no
+// reprojection of the history can account for. 0 in clear air.
 void light_froxels(const FroxelView& view, const std::vector<FogDensity>& density, const VolumeShadow& shadow,
                    const JitterInputs& jitter, JobSystem& jobs, std::vector<float>& sun_visibility,
-                   const std::function<void(int y0, int y1)>& before_rows = nullptr);
+                   const std::function<void(int y0, int y1)>& before_rows = nullptr,
+                   const VolumeShadow* previous = nullptr, std::vector<float>* light_change = nullptr);
 
 // fog.reproject: out = lerp(current, history(reprojected centre), weight);
 // history is rejected outside the previous grid (frustum and depth range) or
 // where it reads a froxel the previous frame culled, and, with clamp, limited
 // to the current 3x3 neighbourhood's range in the slice (lit neighbours only).
-// Produces the lit slices of each column.
+// Produces the lit slices of each column. With light_change (see
+// light_froxels) a froxel's history weight is history_weight * (1 - the
+// largest change in its 3x3 neighbourhood in the slice): where a moving sun
+// changed the visibility, history is dropped in proportion (a one-point
+// measure misses most of a froxel, its neighbours' see the edge coming).
 struct ReprojectStats {
   bool identity = false;       // same camera: history read in place
   size_t rejected = 0;         // froxels without history
 };
 ReprojectStats reproject_history(const FroxelView& view, const std::vector<float>& current,
                                  const FroxelView& history_view, const std::vector<float>& history,
-                                 float history_weight, bool clamp, JobSystem& jobs, std::vector<float>& out);
+                                 float history_weight, bool clamp, JobSystem& jobs, std::vector<float>& out,
+                                 const std::vector<float>* light_change = nullptr);
 
 // fog.filter: 3x3 Gaussian (sigma 1 froxel) in each slice, separable, clamped
 // at the edges; produces the active slices of each column.

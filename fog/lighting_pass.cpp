@@ -34,8 +34,8 @@ namespace {
 
 // Per-slice scratch of one job.
 struct ColumnScratch {
-  std::vector<float> t, visibility;
-  explicit ColumnScratch(int nz) : t(size_t(nz)), visibility(size_t(nz)) {}
+  std::vector<float> t, visibility, previous;
+  explicit ColumnScratch(int nz) : t(size_t(nz)), visibility(size_t(nz)), previous(size_t(nz)) {}
 };
 
 // FogDensity as flat floats (scattering RGB, extinction): the column loops
@@ -77,6 +77,15 @@ void add_visibility(const float* __restrict density, const float* __restrict vis
   }
 }
 
+// out[k] (+)= |now[k] - then[k]| where the froxel scatters, as add_visibility.
+void add_change(const float* __restrict density, const float* __restrict now, const float* __restrict then, int n,
+                bool first, float* __restrict out) {
+  for (int k = 0; k < n; ++k) {
+    const float prior = first ? 0.0f : out[k];
+    out[k] = prior + (scatters(density, k) ? std::abs(now[k] - then[k]) : 0.0f);
+  }
+}
+
 // [first, end) of the slices [0, n) that scatter (first == end: none).
 struct ScatteringRange {
   int first = 0, end = 0;
@@ -93,10 +102,13 @@ ScatteringRange scattering_range(const float* density, int n) {
 
 void light_froxels(const FroxelView& view, const std::vector<FogDensity>& density, const VolumeShadow& shadow,
                    const JitterInputs& jitter, JobSystem& jobs, std::vector<float>& sun_visibility,
-                   const std::function<void(int y0, int y1)>& before_rows) {
+                   const std::function<void(int y0, int y1)>& before_rows, const VolumeShadow* previous,
+                   std::vector<float>* light_change) {
   const FroxelGrid& g = view.grid;
   const PixelRays rays(view.camera, g.width(), g.height());
   sun_visibility.resize(g.count());
+  if (!light_change) previous = nullptr;
+  if (previous) light_change->resize(g.count());
   const int nx = g.nx(), nz = g.nz();
   const int samples = std::max(jitter.samples, 1);
   std::vector<float> t0(static_cast<size_t>(nz)), dt(static_cast<size_t>(nz));
@@ -116,12 +128,17 @@ void light_froxels(const FroxelView& view, const std::vector<FogDensity>& densit
     for (int y = int(begin); y < int(end); ++y)
       for (int x = 0; x < nx; ++x) {
         float* out = sun_visibility.data() + g.index(x, y, 0);
+        float* change = previous ? light_change->data() + g.index(x, y, 0) : nullptr;
         const float* flat = reinterpret_cast<const float*>(density.data() + g.index(x, y, 0));
         const int n = view.lit_slices[size_t(y) * nx + x];
         const ScatteringRange lit = scattering_range(flat, n);
         // Outside the range the froxels are clear air: 0.
         for (int k = 0; k < lit.first; ++k) out[k] = 0.0f;
         for (int k = lit.end; k < n; ++k) out[k] = 0.0f;
+        if (change) {
+          std::fill(change, change + lit.first, 0.0f);
+          std::fill(change + lit.end, change + n, 0.0f);
+        }
         if (lit.first == lit.end) continue;
         const int m = lit.end - lit.first;
         const float* medium = flat + 4 * lit.first;
@@ -139,9 +156,17 @@ void light_froxels(const FroxelView& view, const std::vector<FogDensity>& densit
           sample_points(medium, t0.data() + lit.first, dt.data() + lit.first, u, m, t);
           shadow.visibility(shadow.ray(glm::vec3(0.0f), dir), t, m, vis);
           add_visibility(medium, vis, m, i == 0, out + lit.first);
+          if (change) {
+            float* then = scratch.previous.data();
+            previous->visibility(previous->ray(glm::vec3(0.0f), dir), t, m, then);
+            add_change(medium, vis, then, m, i == 0, change + lit.first);
+          }
         }
         if (samples > 1)
-          for (int k = 0; k < n; ++k) out[k] /= float(samples);
+          for (int k = 0; k < n; ++k) {
+            out[k] /= float(samples);
+            if (change) change[k] /= float(samples);
+          }
       }
   });
 }

@@ -162,11 +162,23 @@ void vertical_min_max(const float* a, int lit_a, const float* b, int lit_b, cons
     }
 }
 
+// Per slice j < need: the largest of columns a, b, c (one above the other)
+// over those whose lit slices include j; 0 where none does.
+void vertical_max(const float* a, int lit_a, const float* b, int lit_b, const float* c, int lit_c, int need,
+                  float* __restrict out) {
+  const int all = std::min({lit_a, lit_b, lit_c, need});
+  for (int j = 0; j < all; ++j) out[j] = std::max(std::max(a[j], b[j]), c[j]);
+  std::fill(out + all, out + std::max(all, need), 0.0f);
+  for (const auto& [col, lit] : {std::pair{a, lit_a}, std::pair{b, lit_b}, std::pair{c, lit_c}})
+    for (int j = all; j < std::min(lit, need); ++j) out[j] = std::max(out[j], col[j]);
+}
+
 }  // namespace
 
 ReprojectStats reproject_history(const FroxelView& view, const std::vector<float>& current,
                                  const FroxelView& history_view, const std::vector<float>& history,
-                                 float history_weight, bool clamp, JobSystem& jobs, std::vector<float>& out) {
+                                 float history_weight, bool clamp, JobSystem& jobs, std::vector<float>& out,
+                                 const std::vector<float>* light_change) {
   const FroxelGrid& g = view.grid;
   const FroxelGrid& hg = history_view.grid;
   out.resize(g.count());
@@ -195,6 +207,8 @@ ReprojectStats reproject_history(const FroxelView& view, const std::vector<float
     // Clamp range of three neighbouring columns, rotated along the row.
     std::vector<float> range_lo(3 * static_cast<size_t>(nz)), range_hi(3 * static_cast<size_t>(nz));
     HistoryProjection::Scratch scratch(nz);
+    // Light change of three neighbouring columns (vertical maxima), rotated the same way.
+    std::vector<float> change_max(light_change ? 3 * static_cast<size_t>(nz) : 0);
     for (int y = int(begin); y < int(end); ++y) {
       const int ya = std::max(y - 1, 0), yb = std::min(y + 1, ny - 1);
       const uint16_t* lit_row = lit_all + size_t(y) * nx;
@@ -207,7 +221,15 @@ ReprojectStats reproject_history(const FroxelView& view, const std::vector<float
                          lit_all[size_t(yb) * nx + xc], need, range_lo.data() + size_t(xc % 3) * nz,
                          range_hi.data() + size_t(xc % 3) * nz);
       };
+      auto vertical_change = [&](int xc) {
+        const int need = std::max({lit_row[std::max(xc - 1, 0)], lit_row[xc], lit_row[std::min(xc + 1, nx - 1)]});
+        const float* lc = light_change->data();
+        vertical_max(lc + g.index(xc, ya, 0), lit_all[size_t(ya) * nx + xc], lc + g.index(xc, y, 0), lit_row[xc],
+                     lc + g.index(xc, yb, 0), lit_all[size_t(yb) * nx + xc], need,
+                     change_max.data() + size_t(xc % 3) * nz);
+      };
       if (clamp) vertical_range(0);
+      if (light_change) vertical_change(0);
       for (int x = 0; x < nx; ++x) {
         const size_t c = size_t(y) * nx + x;
         const int n = lit_row[x];
@@ -259,6 +281,17 @@ ReprojectStats reproject_history(const FroxelView& view, const std::vector<float
           }
         } else {
           for (size_t j = 0; j < len; ++j) dst[j] = cur[j] + (hist[j] - cur[j]) * w;
+        }
+        if (light_change) {
+          // The blend's history share scaled by 1 - the 3x3 neighbourhood's largest light change.
+          if (x + 1 < nx) vertical_change(x + 1);
+          const float* left = change_max.data() + size_t(std::max(x - 1, 0) % 3) * nz;
+          const float* mid = change_max.data() + size_t(x % 3) * nz;
+          const float* right = change_max.data() + size_t(std::min(x + 1, nx - 1) % 3) * nz;
+          for (size_t j = 0; j < len; ++j) {
+            const float m = std::min(std::max(std::max(left[j], mid[j]), right[j]), 1.0f);
+            dst[j] = cur[j] + (dst[j] - cur[j]) * (1.0f - m);
+          }
         }
       }
     }

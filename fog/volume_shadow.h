@@ -16,6 +16,7 @@ namespace cr {
 
 class VolumeShadow {
  public:
+  VolumeShadow() = default;  // no map: every point lit
   // camera_position: the frame's camera; lookups take camera-relative points.
   VolumeShadow(const ShadowMap& map, const glm::dvec3& camera_position);
 

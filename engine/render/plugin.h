@@ -49,6 +49,9 @@ struct FrameContext {
   FrameBuffers& buffers;
   LightEnvironment& light;
   const ShadowMap& shadow;  // size 0 when there is no shadow pass
+  // Last frame's map where this frame's is a new render (the sun or the
+  // texel-snapped projection moved), else size 0; valid from the shadow pass on.
+  const ShadowMap& previous_shadow;
 };
 
 class Plugin {

@@ -125,7 +125,7 @@ const FrameRecord& Renderer::render_frame(int frame) {
 
   Geometry& geo = *geometry_;
   const Camera& cam = view.camera;
-  FrameContext ctx{scene_, description_, profile_, jobs_, view, buffers_, light_, shadow_};
+  FrameContext ctx{scene_, description_, profile_, jobs_, view, buffers_, light_, shadow_, previous_shadow_};
   const int w = buffers_.width, h = buffers_.height;
   const int tile = profile_.tile_size;
   const bool sun_up = view.sun_direction.y > 0.0f && glm::length(view.sun_illuminance) > 0.0f;
@@ -149,14 +149,17 @@ const FrameRecord& Renderer::render_frame(int frame) {
       // last frame's map is exactly what a new render would produce.
       const bool unchanged = fit.size == shadow_.size && fit.light_view_proj == shadow_.light_view_proj &&
                              fit.origin == shadow_.origin && fit.direction_to_sun == shadow_.direction_to_sun;
-      // Last frame's depth image: kept when unchanged, else its memory is
-      // re-used (the render writes every texel).
-      fit.depth.swap(shadow_.depth);
-      shadow_ = std::move(fit);
       if (unchanged) {
+        previous_shadow_.size = 0;  // nothing to compare against (its memory is kept for the next render)
         geo.shadow_reused = true;
         return;
       }
+      // Last frame's map becomes the previous one (temporal plugins compare
+      // against it when the sun moves); the new map renders into the memory
+      // of the one before (the render writes every texel).
+      fit.depth.swap(previous_shadow_.depth);
+      previous_shadow_ = std::move(shadow_);
+      shadow_ = std::move(fit);
       geo.shadow_reused = false;
       geo.casters.clear();
       for (uint32_t i = 0; i < scene_.draws.size(); ++i) {
@@ -171,7 +174,7 @@ const FrameRecord& Renderer::render_frame(int frame) {
                               alpha_coverage(scene_, geo.shadow));
     });
   else
-    shadow_ = ShadowMap{};
+    shadow_ = previous_shadow_ = ShadowMap{};
 
   // Draws outside the view frustum cost nothing past this test.
   geo.opaque.clear();

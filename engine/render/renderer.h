@@ -49,6 +49,8 @@ class Renderer {
 
   const FrameBuffers& buffers() const { return buffers_; }
   const ShadowMap& shadow_map() const { return shadow_; }
+  // Last frame's map where this frame's is a new render, else size 0.
+  const ShadowMap& previous_shadow_map() const { return previous_shadow_; }
   const LightEnvironment& light_environment() const { return light_; }
   Plugin* plugin(const std::string& name) const;  // nullptr when absent or unused by the scene
   const std::vector<std::unique_ptr<Plugin>>& plugins() const { return plugins_; }
@@ -61,7 +63,7 @@ class Renderer {
   JobSystem& jobs_;
   std::vector<std::unique_ptr<Plugin>> plugins_;
   FrameBuffers buffers_;
-  ShadowMap shadow_;
+  ShadowMap shadow_, previous_shadow_;
   LightEnvironment light_;
   std::unique_ptr<Geometry> geometry_;
   std::unique_ptr<DisplayTransform> display_;  // built once per exposure

@@ -83,12 +83,12 @@ inline FogSceneSettings uniform_fog(float extinction, const glm::vec3& albedo, f
 
 // Renders the froxel volume for one frame (depth-culled by the same per-pixel
 // distances, as the plugin does, unless `cull` is false) and composites it
-// over `base` colour.
+// over `base` colour. previous_shadow: last frame's map, as the renderer gives it.
 inline std::vector<glm::vec3> composite(FroxelFog& fog, const FrameView& view, const LightEnvironment& light,
                                         const ShadowMap& shadow, JobSystem& jobs,
                                         const std::vector<float>& distance, const glm::vec3& base,
-                                        bool cull = true) {
-  fog.render(view, light, shadow, jobs, cull ? &distance : nullptr);
+                                        bool cull = true, const ShadowMap* previous_shadow = nullptr) {
+  fog.render(view, light, shadow, jobs, cull ? &distance : nullptr, previous_shadow);
   FrameBuffers b;
   b.resize(view.width, view.height);
   b.distance = distance;

@@ -67,19 +67,24 @@ TEST_CASE("light_froxels gives the bits of the per-froxel definition") {
     const float extinction = (k + int(c)) % 13 == 0 ? 0.5f : 0.01f + 0.001f * float(k);
     if (scatters) density[i] = FogDensity{glm::vec3(0.8f * extinction), extinction};
   }
+  // Last frame's map under a sun 4 degrees round: the light change per sample.
+  const ShadowMap moved_map = wall_shadow(cam, glm::normalize(glm::vec3(0.62f, 0.4f, 0.26f)));
+  const VolumeShadow moved(moved_map, cam.position);
   for (int samples : {1, 3}) {
     JitterInputs jitter;
     jitter.frame = 4;
     jitter.samples = samples;
-    std::vector<float> sun_visibility;
+    std::vector<float> sun_visibility, with_change, change;
     light_froxels(view, density, shadow, jitter, jobs, sun_visibility);
-    size_t mismatches = 0, shadowed = 0, partial = 0;
+    light_froxels(view, density, shadow, jitter, jobs, with_change, nullptr, &moved, &change);
+    CHECK(with_change == sun_visibility);  // measuring the change does not touch the visibility
+    size_t mismatches = 0, shadowed = 0, partial = 0, changed = 0;
     for (int y = 0; y < grid.ny(); ++y)
       for (int x = 0; x < grid.nx(); ++x) {
         const glm::vec2 px = grid.column_center_px(x, y);
         for (int k = 0; k < view.lit_slices[size_t(y) * grid.nx() + x]; ++k) {
           const FogDensity& d = density[grid.index(x, y, k)];
-          float sum = 0.0f;
+          float sum = 0.0f, delta = 0.0f;
           for (int i = 0; i < samples; ++i) {
             const FroxelJitter j = froxel_jitter(jitter.frame + i);
             const float u = std::fmod(column_hash(x, y) + j.depth, 1.0f);
@@ -88,11 +93,20 @@ TEST_CASE("light_froxels gives the bits of the per-froxel definition") {
             const float t = grid.boundary(k) +
                             importance_sample_offset(u, std::max(d.extinction, 1e-12f), grid.thickness(k));
             const bool clear = d.scattering == glm::vec3(0.0f);
-            sum += clear ? 0.0f : shadow.visibility(shadow.ray(glm::vec3(0.0f), dir), t);
+            const float now = shadow.visibility(shadow.ray(glm::vec3(0.0f), dir), t);
+            const float then = moved.visibility(moved.ray(glm::vec3(0.0f), dir), t);
+            sum += clear ? 0.0f : now;
+            delta += clear ? 0.0f : std::abs(now - then);
           }
-          if (samples > 1) sum /= float(samples);
+          if (samples > 1) {
+            sum /= float(samples);
+            delta /= float(samples);
+          }
           const float got = sun_visibility[grid.index(x, y, k)];
+          const float got_change = change[grid.index(x, y, k)];
           mismatches += std::memcmp(&got, &sum, sizeof(float)) != 0;
+          mismatches += std::memcmp(&got_change, &delta, sizeof(float)) != 0;
+          changed += got_change > 0.0f;
           shadowed += got == 0.0f && d.scattering != glm::vec3(0.0f);
           partial += got > 0.0f && got < 1.0f;
         }
@@ -100,6 +114,7 @@ TEST_CASE("light_froxels gives the bits of the per-froxel definition") {
     CHECK(mismatches == 0);
     CHECK(shadowed > 0);
     CHECK(partial > 0);
+    CHECK(changed > 0);
   }
 }
 

@@ -81,6 +81,28 @@ TEST_CASE("a static camera re-uses the shadow map and renders identical frames")
   const cr::FrameRecord& rec = r.render_frame(1);
   CHECK(rec.raster["shadow_map_reused"].get<bool>());
   CHECK(bit_identical(first, r.buffers().color));
+  CHECK(r.previous_shadow_map().size == 0);  // nothing moved: no previous map to compare against
+}
+
+TEST_CASE("a moving sun keeps last frame's shadow map as the previous one") {
+  Loaded l = load(kBox, 64, 48);
+  l.description.sun.keys = {cr::SunKey{0, 30.0f, 50.0f}, cr::SunKey{2, 40.0f, 50.0f}};
+  cr::JobSystem jobs(2);
+  cr::Renderer r(l.scene, l.description, l.profile, {}, jobs);
+  r.render_frame(0);
+  CHECK(r.previous_shadow_map().size == 0);  // no frame before
+  const cr::ShadowMap first = r.shadow_map();
+  r.render_frame(1);
+  const cr::ShadowMap& previous = r.previous_shadow_map();
+  REQUIRE(previous.size == first.size);
+  CHECK(previous.direction_to_sun == first.direction_to_sun);
+  CHECK(previous.direction_to_sun != r.shadow_map().direction_to_sun);
+  CHECK(previous.depth == first.depth);
+  CHECK(r.shadow_map().depth != first.depth);
+  const cr::ShadowMap second = r.shadow_map();
+  r.render_frame(2);  // the third map renders into the first one's memory; frame 1's is previous now
+  CHECK(r.previous_shadow_map().direction_to_sun == second.direction_to_sun);
+  CHECK(r.previous_shadow_map().depth == second.depth);
 }
 
 TEST_CASE("camera keys interpolate, hold outside the keyed range and mark cuts") {
