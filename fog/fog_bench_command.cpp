@@ -17,10 +17,17 @@ int fog_bench_command(const std::vector<std::string>& args, const PluginRegistry
   ArgParser a("fog-bench", "cpurender fog-bench SCENE [options]",
               "Per-pass fog times (median over frames after the first two) at 1 thread and at --threads.");
   add_fog_command_options(a);
-  a.option("frames", "N", "frames per run (>= 3)", "10");
+  a.option("frames", "N", "frames per run (>= 3)", "10")
+      .option("sun-turn", "DEG", "turn the sun's azimuth this much per frame (times moving-light frames)", "0");
   if (!a.parse(args, 1, 1)) return 0;
-  const FogRun run = load_fog_run(a, registry);
+  FogRun run = load_fog_run(a, registry);
   const int frames = a.get_int("frames", 3, 10000);
+  const double sun_turn = a.get_double("sun-turn", -180.0, 180.0);
+  if (sun_turn != 0.0) {
+    JobSystem probe_jobs(1);
+    const Renderer probe(*run.scene, run.description, run.profile, {}, probe_jobs);
+    run.description = with_turning_sun(run.description, probe.frame_view(0), frames, sun_turn);
+  }
   const unsigned all = fog_command_threads(a);
   std::printf("fog-bench %s, %dx%d, median of %d frames\n", run.description.path.c_str(), run.profile.width,
               run.profile.height, frames - 2);

@@ -1,5 +1,6 @@
 #include "fog/fog_command_common.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -48,6 +49,19 @@ FogRun load_fog_run(const ArgParser& args, const PluginRegistry& registry) {
   options.texture_decode_budget = size_t(run.profile.texture_decode_budget_mb) << 20;
   run.scene = std::make_unique<Scene>(load_gltf(run.description.gltf_path, options));
   return run;
+}
+
+SceneDescription with_turning_sun(const SceneDescription& scene, const FrameView& first, int frames,
+                                  double degrees_per_frame) {
+  SceneDescription out = scene;
+  const glm::vec3 s0 = first.sun_direction;
+  const float azimuth = float(glm::degrees(std::atan2(double(s0.x), double(s0.z))));
+  const float elevation = float(glm::degrees(std::asin(double(std::clamp(s0.y, -1.0f, 1.0f)))));
+  if (out.sun.illuminance > 0.0f) out.sun.color = first.sun_illuminance / out.sun.illuminance;
+  const int last = std::max(frames - 1, 1);
+  out.sun.keys = {SunKey{0, azimuth, elevation},
+                  SunKey{last, azimuth + float(degrees_per_frame) * float(last), elevation}};
+  return out;
 }
 
 std::vector<std::unique_ptr<Plugin>> plugins_without_fog(const PluginRegistry& registry) {

@@ -33,6 +33,12 @@ struct FogRun {
 // the scene must have a "fog" section.
 FogRun load_fog_run(const ArgParser& args, const PluginRegistry& registry);
 
+// The run's scene with the sun's azimuth turning `degrees_per_frame` over
+// frames [0, frames) from its direction in `first` (frame 0's view), at the
+// same elevation and illuminance: light shafts that move.
+SceneDescription with_turning_sun(const SceneDescription& scene, const FrameView& first, int frames,
+                                  double degrees_per_frame);
+
 // The registry's plugins except the fog: the engine's base image.
 std::vector<std::unique_ptr<Plugin>> plugins_without_fog(const PluginRegistry& registry);
 

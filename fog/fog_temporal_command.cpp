@@ -129,9 +129,8 @@ int fog_temporal_command(const std::vector<std::string>& args, const PluginRegis
   std::snprintf(title, sizeof title, "fast path (%.2f m + %.2f deg per frame)", speed, turn);
   print_path(title, path_error(run, fast, frames, vs, registry, jobs), vs);
 
-  // Moving sun: the first camera held (one key), the sun's azimuth turning
-  // from frame 0's direction at the same elevation and illuminance.
-  SceneDescription moving = run.description;
+  // Moving sun: the first camera held (one key), the sun turning.
+  SceneDescription moving = with_turning_sun(run.description, view0, frames, sun_turn);
   moving.camera.gltf_camera.reset();
   moving.camera.znear = c0.znear;
   CameraKey still;
@@ -139,14 +138,8 @@ int fog_temporal_command(const std::vector<std::string>& args, const PluginRegis
   still.target = c0.position + glm::dvec3(c0.forward) * 10.0;
   still.vfov_deg = float(glm::degrees(double(c0.vfov_rad)));
   moving.camera.keys = {still};
-  const glm::vec3 s0 = view0.sun_direction;
-  const float azimuth0 = float(glm::degrees(std::atan2(double(s0.x), double(s0.z))));
-  const float elevation = float(glm::degrees(std::asin(double(std::clamp(s0.y, -1.0f, 1.0f)))));
-  if (moving.sun.illuminance > 0.0f) moving.sun.color = view0.sun_illuminance / moving.sun.illuminance;
-  moving.sun.keys = {SunKey{0, azimuth0, elevation},
-                     SunKey{frames - 1, azimuth0 + float(sun_turn) * float(frames - 1), elevation}};
   std::snprintf(title, sizeof title, "moving sun (azimuth %.2f deg per frame, elevation %.1f deg)", sun_turn,
-                elevation);
+                double(moving.sun.keys.front().elevation_deg));
   print_path(title, path_error(run, moving, frames, vs, registry, jobs), vs);
 
   // Static view.
