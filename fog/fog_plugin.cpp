@@ -69,6 +69,8 @@ void FogPlugin::report_frame(nlohmann::json& frame) {
   frame["history_used"] = s.history_used;
   frame["history_rejected_froxels"] = s.reproject.rejected;
   frame["light_changed"] = s.light_changed;
+  frame["still_frames"] = s.still_frames;
+  frame["filtered"] = s.filtered;
 }
 
 }  // namespace cr

@@ -23,6 +23,8 @@ struct FogProfileSettings {
   bool reprojection = true;        // temporal blend with the reprojected history
   bool history_clamp = true;       // clamp history to the current 3x3 neighbourhood (less ghosting)
   bool light_change_rejection = true;  // trust history less where a moving sun changed the sample's visibility
+  bool still_accumulation = true;  // a still view (same camera and sun) averages the jitter sequence evenly, unclamped,
+                                   // and drops the filter once a whole sequence is in
 };
 
 enum class FogPhase { HenyeyGreenstein, CornetteShanks };

@@ -9,8 +9,9 @@
 //                luminance change between consecutive frames, plus the error
 //                against the converged frame
 // Each with the profile's reprojection (clamped history, light-change
-// rejection), the same blind to light changes, HDRP's unclamped history and
-// no reprojection (single jittered sample per frame).
+// rejection, still-view accumulation), the same blind to light changes,
+// HDRP's unclamped fixed-weight history and no reprojection (single jittered
+// sample per frame).
 #include <cmath>
 #include <cstdio>
 
@@ -34,6 +35,7 @@ std::vector<Variant> variants(const FogProfileSettings& p) {
   clamped.light_change_rejection = true;
   unaware.light_change_rejection = hdrp.light_change_rejection = false;
   hdrp.history_clamp = false;
+  hdrp.still_accumulation = false;  // HDRP blends with one fixed weight
   single.reprojection = false;
   return {{"reprojection (clamped)", clamped},
           {"clamped, light-blind", unaware},

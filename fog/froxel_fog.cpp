@@ -1,5 +1,7 @@
 #include "fog/froxel_fog.h"
 
+#include <algorithm>
+
 namespace cr {
 
 FroxelFog::FroxelFog(const FogProfileSettings& profile, const FogSceneSettings& scene)
@@ -40,6 +42,11 @@ void FroxelFog::lighting(const ShadowMap& shadow, JobSystem& jobs, const ShadowM
   // moved (a camera move re-fits the map around the same light).
   light_changed_ = use_history_ && profile_.light_change_rejection && previous && previous->size > 0 &&
                    shadow.size > 0 && previous->direction_to_sun != shadow.direction_to_sun;
+  // Whether the history saw another sun (whatever rejection is set to): no
+  // still view then. Without a shadow map the visibility is 1 for any sun.
+  const glm::vec3 sun = shadow.size > 0 ? shadow.direction_to_sun : glm::vec3(0.0f);
+  sun_moved_ = sun != history_sun_;
+  history_sun_ = sun;
   stats_.light_changed = light_changed_;
   const VolumeShadow previous_shadow = light_changed_ ? VolumeShadow(*previous, view_.camera.position) : VolumeShadow();
   // Each job voxelises its rows right before lighting them (in cache).
@@ -51,12 +58,26 @@ void FroxelFog::lighting(const ShadowMap& shadow, JobSystem& jobs, const ShadowM
 }
 
 void FroxelFog::reproject(JobSystem& jobs) {
+  // A still view: the history was lit by the same camera and sun, so its
+  // samples differ from this frame's only by the jitter, whose sequence
+  // repeats every kJitterFrames. A running mean (weight s / (s + 1) once it
+  // exceeds the profile's) averages the sequence evenly and converges to the
+  // many-sample result, where a fixed weight keeps cycling around it; nothing
+  // moves, so there is no ghost to clamp.
+  const bool still = use_history_ && !sun_moved_ && same_view(view_, history_view_);
+  still_frames_ = still ? std::min(still_frames_ + 1, kMaxStillFrames) : 0;
+  stats_.still_frames = still_frames_;
   if (!profile_.reprojection) return;
+  float weight = profile_.history_weight;
+  bool clamp = profile_.history_clamp;
+  if (still && profile_.still_accumulation) {
+    weight = std::max(weight, float(still_frames_) / float(still_frames_ + 1));
+    clamp = false;
+  }
   std::vector<float>& out = history_[current_];
   if (use_history_) {
-    stats_.reproject = reproject_history(view_, sun_current_, history_view_, history_[1 - current_],
-                                         profile_.history_weight, profile_.history_clamp, jobs, out,
-                                         light_changed_ ? &light_change_ : nullptr);
+    stats_.reproject = reproject_history(view_, sun_current_, history_view_, history_[1 - current_], weight, clamp,
+                                         jobs, out, light_changed_ ? &light_change_ : nullptr);
   } else {
     out.swap(sun_current_);  // no history: the blend is the current light (lighting rewrites sun_current_)
   }
@@ -67,7 +88,12 @@ void FroxelFog::reproject(JobSystem& jobs) {
 }
 
 void FroxelFog::filter(JobSystem& jobs) {
-  if (profile_.filter) filter_slices(view_, blended(), jobs, scratch_, filtered_);
+  // The filter trades bias for less noise and ghosting in motion; a still
+  // view with a whole jitter sequence accumulated needs neither.
+  const bool converged = profile_.still_accumulation && still_frames_ >= kJitterFrames;
+  filtered_now_ = profile_.filter && !converged;
+  stats_.filtered = filtered_now_;
+  if (filtered_now_) filter_slices(view_, blended(), jobs, scratch_, filtered_);
 }
 
 void FroxelFog::integrate(const LightEnvironment& light, JobSystem& jobs) {

@@ -16,6 +16,7 @@
 #include "fog/fog_medium.h"
 #include "fog/fog_settings.h"
 #include "fog/froxel_passes.h"
+#include "fog/jitter_sequence.h"
 
 namespace cr {
 
@@ -26,6 +27,8 @@ struct FroxelFogStats {
   ReprojectStats reproject;
   bool history_used = false;
   bool light_changed = false;  // the sun moved since the history: light change measured
+  int still_frames = 0;        // consecutive frames of a still view (same camera and sun) with history
+  bool filtered = false;       // the 3x3 filter ran this frame
 };
 
 class FroxelFog {
@@ -62,7 +65,7 @@ class FroxelFog {
   const FroxelView& view() const { return view_; }
   const std::vector<FogDensity>& density_volume() const { return density_; }
   // The sun visibility the integration uses (after reprojection and filter).
-  const std::vector<float>& sun_visibility() const { return profile_.filter ? filtered_ : blended(); }
+  const std::vector<float>& sun_visibility() const { return filtered_now_ ? filtered_ : blended(); }
   // Valid in each column's active slices (view().active_slices).
   const std::vector<IntegratedFroxel>& volume() const { return volume_; }
   const FroxelFogStats& stats() const { return stats_; }
@@ -83,10 +86,15 @@ class FroxelFog {
   std::vector<float> sun_current_;
   std::vector<float> light_change_;  // valid this frame when light_changed_
   bool light_changed_ = false;
+  bool sun_moved_ = false;      // the shadow map's sun differs from the last frame's
+  glm::vec3 history_sun_{0.0f};  // the last frame's shadow-map sun (0: no map)
   std::vector<float> history_[2];  // [current_] written this frame, the other read
   int current_ = 0;
   FroxelView history_view_;
   std::vector<float> scratch_, filtered_;
+  bool filtered_now_ = false;  // filtered_ holds this frame's filter output
+  static constexpr int kMaxStillFrames = 1 << 16;  // the running mean's weight stops at 65536 / 65537
+  int still_frames_ = 0;
   int blended_ = -1;  // the reprojection's output: history_[blended_], or sun_current_ when -1
   std::vector<IntegratedFroxel> volume_;
   FroxelFogStats stats_;

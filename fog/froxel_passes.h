@@ -120,6 +120,9 @@ void light_froxels(const FroxelView& view, const std::vector<FogDensity>& densit
 // largest change in its 3x3 neighbourhood in the slice): where a moving sun
 // changed the visibility, history is dropped in proportion (a one-point
 // measure misses most of a froxel, its neighbours' see the edge coming).
+// The same camera and grid layout: history is read in place.
+bool same_view(const FroxelView& a, const FroxelView& b);
+
 struct ReprojectStats {
   bool identity = false;       // same camera: history read in place
   size_t rejected = 0;         // froxels without history

@@ -29,11 +29,6 @@ namespace cr {
 
 namespace {
 
-bool same_camera(const Camera& a, const Camera& b) {
-  return a.position == b.position && a.forward == b.forward && a.up == b.up && a.right == b.right &&
-         a.vfov_rad == b.vfov_rad && a.aspect == b.aspect && a.znear == b.znear;
-}
-
 // Projection of a column's froxel centres into the history's grid, set up
 // once per frame. A column's centres lie on one line, q(t) = offset + t dv in
 // the history camera's frame (right, up, forward, relative to its position),
@@ -175,16 +170,21 @@ void vertical_max(const float* a, int lit_a, const float* b, int lit_b, const fl
 
 }  // namespace
 
+bool same_view(const FroxelView& a, const FroxelView& b) {
+  const Camera &p = a.camera, &q = b.camera;
+  return p.position == q.position && p.forward == q.forward && p.up == q.up && p.right == q.right &&
+         p.vfov_rad == q.vfov_rad && p.aspect == q.aspect && p.znear == q.znear && a.grid.same_layout(b.grid);
+}
+
 ReprojectStats reproject_history(const FroxelView& view, const std::vector<float>& current,
                                  const FroxelView& history_view, const std::vector<float>& history,
                                  float history_weight, bool clamp, JobSystem& jobs, std::vector<float>& out,
                                  const std::vector<float>* light_change) {
   const FroxelGrid& g = view.grid;
-  const FroxelGrid& hg = history_view.grid;
   out.resize(g.count());
   ReprojectStats stats;
   const float w = history_weight;
-  stats.identity = same_camera(view.camera, history_view.camera) && g.same_layout(hg);
+  stats.identity = same_view(view, history_view);
   const Camera& hc = history_view.camera;
   // Froxel centre in the history camera's view: q(t) = offset + t * R dir.
   const glm::vec3 offset_world(view.camera.position - hc.position);
