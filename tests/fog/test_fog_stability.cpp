@@ -118,3 +118,29 @@ TEST_CASE("stability: camera inside volumes, volumes crossing the near plane, ze
     prev = cam;
   }
 }
+
+TEST_CASE("stability: a long still view, then a sun that jumps every frame") {
+  JobSystem jobs(2);
+  const Camera cam = camera_at({0, 2, 5}, {0, 2, -10}, kW, kH);
+  for (float extinction : {1e-4f, 10.0f}) {
+    CAPTURE(extinction);
+    FogProfileSettings p;
+    p.slices = 16;
+    FroxelFog fog(p, uniform_fog(extinction, glm::vec3(1.0f), 0.99f));
+    ShadowMap previous;
+    for (int f = 0; f < 24; ++f) {
+      // Still for 16 frames (the running mean's weight climbs to 16/17),
+      // then the sun jumps 40 degrees a frame, through the camera's view.
+      const float a = glm::radians(f < 16 ? 10.0f : 10.0f + 40.0f * float(f - 15));
+      const glm::vec3 sun = glm::normalize(glm::vec3(std::sin(a), 0.4f, -std::cos(a)));
+      const ShadowMap shadow = wall_shadow(cam, sun);
+      const auto img = composite(fog, frame_view(cam, cam, f, f > 0, kW, kH), light(sun, kSunLux, kAmbient), shadow,
+                                 jobs, mixed_distances(), glm::vec3(1.0f), true, &previous);
+      check_image(img);
+      check_bounded(fog, FogPhase::HenyeyGreenstein, 0.99f);
+      CHECK(fog.stats().still_frames == (f < 16 ? f : 0));
+      CHECK(fog.stats().light_changed == (f >= 16));
+      previous = shadow;
+    }
+  }
+}
