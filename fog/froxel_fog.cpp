@@ -45,9 +45,19 @@ void FroxelFog::lighting(const ShadowMap& shadow, JobSystem& jobs, const ShadowM
   // Whether the history saw another sun (whatever rejection is set to): no
   // still view then. Without a shadow map the visibility is 1 for any sun.
   const glm::vec3 sun = shadow.size > 0 ? shadow.direction_to_sun : glm::vec3(0.0f);
-  sun_moved_ = sun != history_sun_;
+  const bool sun_moved = sun != history_sun_;
   history_sun_ = sun;
   stats_.light_changed = light_changed_;
+  // A still view: the history was lit by the same camera and sun, so its
+  // samples differ from this frame's only by the jitter.
+  still_ = use_history_ && !sun_moved && same_view(view_, history_view_);
+  // After kFreezeFrames still frames the running mean holds the jitter
+  // sequence evenly (to 1/64) and the history from before the still run at
+  // under 5% of its weight: a new sample changes nothing visible, so the
+  // visibility (and the density it was lit with) is kept as it is.
+  frozen_ = still_ && profile_.still_accumulation && still_frames_ >= kFreezeFrames;
+  stats_.lighting_frozen = frozen_;
+  if (frozen_) return;
   const VolumeShadow previous_shadow = light_changed_ ? VolumeShadow(*previous, view_.camera.position) : VolumeShadow();
   // Each job voxelises its rows right before lighting them (in cache).
   light_froxels(
@@ -58,19 +68,16 @@ void FroxelFog::lighting(const ShadowMap& shadow, JobSystem& jobs, const ShadowM
 }
 
 void FroxelFog::reproject(JobSystem& jobs) {
-  // A still view: the history was lit by the same camera and sun, so its
-  // samples differ from this frame's only by the jitter, whose sequence
-  // repeats every kJitterFrames. A running mean (weight s / (s + 1) once it
-  // exceeds the profile's) averages the sequence evenly and converges to the
-  // many-sample result, where a fixed weight keeps cycling around it; nothing
-  // moves, so there is no ghost to clamp.
-  const bool still = use_history_ && !sun_moved_ && same_view(view_, history_view_);
-  still_frames_ = still ? std::min(still_frames_ + 1, kMaxStillFrames) : 0;
+  // In a still view the jitter sequence repeats every kJitterFrames. A
+  // running mean (weight s / (s + 1) once it exceeds the profile's) averages
+  // it evenly and converges to the many-sample result, where a fixed weight
+  // keeps cycling around it; nothing moves, so there is no ghost to clamp.
+  still_frames_ = still_ ? std::min(still_frames_ + 1, kMaxStillFrames) : 0;
   stats_.still_frames = still_frames_;
-  if (!profile_.reprojection) return;
+  if (!profile_.reprojection || frozen_) return;
   float weight = profile_.history_weight;
   bool clamp = profile_.history_clamp;
-  if (still && profile_.still_accumulation) {
+  if (still_ && profile_.still_accumulation) {
     weight = std::max(weight, float(still_frames_) / float(still_frames_ + 1));
     clamp = false;
   }

@@ -29,6 +29,7 @@ struct FroxelFogStats {
   bool light_changed = false;  // the sun moved since the history: light change measured
   int still_frames = 0;        // consecutive frames of a still view (same camera and sun) with history
   bool filtered = false;       // the 3x3 filter ran this frame
+  bool lighting_frozen = false;  // a converged still view: lighting and reprojection skipped
 };
 
 class FroxelFog {
@@ -86,14 +87,16 @@ class FroxelFog {
   std::vector<float> sun_current_;
   std::vector<float> light_change_;  // valid this frame when light_changed_
   bool light_changed_ = false;
-  bool sun_moved_ = false;      // the shadow map's sun differs from the last frame's
   glm::vec3 history_sun_{0.0f};  // the last frame's shadow-map sun (0: no map)
+  bool still_ = false;           // this frame's camera and sun are the history's
+  bool frozen_ = false;          // a converged still view: lighting and reprojection keep last frame's result
   std::vector<float> history_[2];  // [current_] written this frame, the other read
   int current_ = 0;
   FroxelView history_view_;
   std::vector<float> scratch_, filtered_;
   bool filtered_now_ = false;  // filtered_ holds this frame's filter output
   static constexpr int kMaxStillFrames = 1 << 16;  // the running mean's weight stops at 65536 / 65537
+  static constexpr int kFreezeFrames = 9 * kJitterFrames;
   int still_frames_ = 0;
   int blended_ = -1;  // the reprojection's output: history_[blended_], or sun_current_ when -1
   std::vector<IntegratedFroxel> volume_;

@@ -88,6 +88,41 @@ TEST_CASE("reprojection of a static view converges to the non-temporal many-samp
   CHECK(converged[1] < 0.25 * converged[0]);
 }
 
+TEST_CASE("a converged still view keeps its lighting until the camera or the sun moves") {
+  JobSystem jobs(2);
+  const Camera cam = camera_at({-6, 3, 20}, {2, 4, -10}, kW, kH);
+  const Camera moved = camera_at({-6, 3, 20.01}, {2, 4, -10}, kW, kH);
+  const ShadowMap shadow = wall_shadow(cam, kSun);
+  const LightEnvironment l = light(kSun, 10000.0f, 50.0f);
+  const std::vector<glm::vec3> reference =
+      many_sample(frame_view(cam, cam, 0, false, kW, kH), l, shadow, jobs, /*filter=*/false);
+  FroxelFog fog(profile(true), uniform_fog(0.04f, glm::vec3(0.9f)));
+  std::vector<glm::vec3> last;
+  double error_before = 0.0;
+  constexpr int kFreeze = 9 * kJitterFrames;  // still frames before the lighting is kept
+  for (int f = 0; f <= kFreeze + 2; ++f) {
+    const auto out = composite(fog, frame_view(cam, cam, f, f > 0, kW, kH), l, shadow, jobs, sky_distances(), {});
+    CHECK(fog.stats().lighting_frozen == (f > kFreeze));
+    if (f == kFreeze) error_before = mean_relative_error(reference, out);
+    if (f > kFreeze) CHECK(out == last);  // nothing recomputed, nothing changes
+    last = out;
+  }
+  MESSAGE("still view error against the seven-sample result when it freezes: " << error_before);
+  CHECK(error_before < 0.002);
+  // A camera move (1 cm) or a sun move thaws it.
+  composite(fog, frame_view(moved, cam, kFreeze + 3, true, kW, kH), l, wall_shadow(moved, kSun), jobs,
+            sky_distances(), {});
+  CHECK_FALSE(fog.stats().lighting_frozen);
+  CHECK(fog.stats().still_frames == 0);
+  for (int f = kFreeze + 4; f <= 2 * kFreeze + 5; ++f)
+    composite(fog, frame_view(moved, moved, f, true, kW, kH), l, wall_shadow(moved, kSun), jobs, sky_distances(), {});
+  CHECK(fog.stats().lighting_frozen);
+  const glm::vec3 sun2 = glm::normalize(kSun + glm::vec3(0.0f, 0.01f, 0.0f));
+  composite(fog, frame_view(moved, moved, 2 * kFreeze + 6, true, kW, kH), light(sun2, 10000.0f, 50.0f),
+            wall_shadow(moved, sun2), jobs, sky_distances(), {});
+  CHECK_FALSE(fog.stats().lighting_frozen);
+}
+
 TEST_CASE("a fast camera path stays within the ghosting bound") {
   JobSystem jobs(2);
   const LightEnvironment l = light(kSun, 10000.0f, 50.0f);
