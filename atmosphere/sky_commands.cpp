@@ -22,6 +22,7 @@
 #include "engine/core/error.h"
 #include "engine/output/exr_io.h"
 #include "engine/output/percentile.h"
+#include "engine/render/composite_strips.h"
 #include "engine/render/plugin.h"
 
 namespace cr {
@@ -486,15 +487,10 @@ struct CompositeTime {
 };
 
 CompositeTime time_composite(const SkyFrame& f, FrameBuffers& b, JobSystem& jobs) {
-  const int tile = 64;
-  const int tx = (b.width + tile - 1) / tile, ty = (b.height + tile - 1) / tile;
   const double t0 = now_ms(), c0 = cpu_ms();
-  jobs.parallel_for("composite", size_t(tx * ty), 1, [&](size_t begin, size_t end) {
-    for (size_t k = begin; k < end; ++k) {
-      const int x0 = int(k % size_t(tx)) * tile, y0 = int(k / size_t(tx)) * tile;
-      composite_sky(f, b, x0, y0, std::min(x0 + tile, b.width), std::min(y0 + tile, b.height));
-    }
-  });
+  // Split as the engine's composite pass splits it.
+  for_each_composite_strip(jobs, "composite", b.width, b.height,
+                           [&](int x0, int y0, int x1, int y1) { composite_sky(f, b, x0, y0, x1, y1); });
   return {now_ms() - t0, cpu_ms() - c0};
 }
 

@@ -9,6 +9,7 @@
 #include "engine/cli/paths.h"
 #include "engine/core/error.h"
 #include "engine/output/percentile.h"
+#include "engine/render/composite_strips.h"
 #include "engine/scene/gltf_loader.h"
 
 namespace cr {
@@ -92,14 +93,9 @@ std::vector<glm::vec3> froxel_frame(FroxelFog& fog, const FrameView& view, const
   t.integrate = ms_since(t0);
   FrameBuffers b = base.buffers();
   t0 = std::chrono::steady_clock::now();
-  const int tile = 64;
-  const int tiles_x = (b.width + tile - 1) / tile, tiles_y = (b.height + tile - 1) / tile;
-  jobs.parallel_for("fog.composite", size_t(tiles_x) * tiles_y, 1, [&](size_t begin, size_t end) {
-    for (size_t i = begin; i < end; ++i) {
-      const int x0 = int(i % tiles_x) * tile, y0 = int(i / tiles_x) * tile;
-      fog.composite(b, x0, y0, std::min(b.width, x0 + tile), std::min(b.height, y0 + tile));
-    }
-  });
+  // Split as the engine's composite pass splits it.
+  for_each_composite_strip(jobs, "fog.composite", b.width, b.height,
+                           [&](int x0, int y0, int x1, int y1) { fog.composite(b, x0, y0, x1, y1); });
   t.composite = ms_since(t0);
   if (times) *times = t;
   return b.color;

@@ -8,6 +8,7 @@
 #include "engine/core/error.h"
 #include "engine/raster/blend_order.h"
 #include "engine/raster/tiled_rasterizer.h"
+#include "engine/render/composite_strips.h"
 #include "engine/render/display_transform.h"
 #include "engine/render/frame_view.h"
 #include "engine/shading/material_batch.h"
@@ -337,13 +338,9 @@ const FrameRecord& Renderer::render_frame(int frame) {
     graph.add_pass("composite", [&](FrameGraph::Builder& b) {
       for (const std::string& r : composite_reads) b.read(r);
       b.write("hdr_color");
-    }, [this, &ctx, &compositors, w, h, tile] {
-      const int tx = (w + tile - 1) / tile, ty = (h + tile - 1) / tile;
-      jobs_.parallel_for("composite", size_t(tx) * ty, 1, [&](size_t b, size_t e) {
-        for (size_t t = b; t < e; ++t) {
-          const int x0 = int(t % tx) * tile, y0 = int(t / tx) * tile;
-          for (Plugin* p : compositors) p->composite(ctx, x0, y0, std::min(w, x0 + tile), std::min(h, y0 + tile));
-        }
+    }, [this, &ctx, &compositors, w, h] {
+      for_each_composite_strip(jobs_, "composite", w, h, [&](int x0, int y0, int x1, int y1) {
+        for (Plugin* p : compositors) p->composite(ctx, x0, y0, x1, y1);
       });
     });
 
