@@ -262,8 +262,12 @@ constexpr int kBlock = 8;
 constexpr int kPrefetchRows = 4;
 constexpr float kBlockTolerance = 3e-3f;  // relative, at the block centre: far below the LUT's own error
 
-// Grid coordinate i of a tile span [a, b): pixel a + i * kBlock, the last one clamped to b - 1.
-inline int grid_pixel(int a, int b, int i) { return std::min(a + i * kBlock, b - 1); }
+// Grid coordinate i of a span starting at pixel a, in a frame `edge` pixels
+// wide: pixel a + i * kBlock, clamped to the frame's last pixel. Grid points
+// past the span's end belong to the frame, not the span, so where spans start
+// at multiples of kBlock (the composite pass's strips do) every pixel gets
+// the same grid whichever way the frame is split.
+inline int grid_pixel(int a, int edge, int i) { return std::min(a + i * kBlock, edge - 1); }
 
 }  // namespace
 
@@ -379,7 +383,7 @@ void composite_sky(const SkyFrame& f, FrameBuffers& buffers, int x0, int y0, int
   s.wx.resize(n);
   for (size_t k = 0; k < n; ++k) {
     const int bi = int(k) / kBlock;
-    const int gx0 = grid_pixel(x0, x1, bi) - x0, gx1 = grid_pixel(x0, x1, bi + 1) - x0;
+    const int gx0 = grid_pixel(x0, w, bi) - x0, gx1 = grid_pixel(x0, w, bi + 1) - x0;
     s.wx[k] = gx1 > gx0 ? float(int(k) - gx0) / float(gx1 - gx0) : 0.0f;
   }
   const float cos_horizon = std::cos(map.zenith_horizon_angle);
@@ -400,7 +404,7 @@ void composite_sky(const SkyFrame& f, FrameBuffers& buffers, int x0, int y0, int
     for (auto* v : {&s.dir_x, &s.dir_y, &s.dir_z}) v->resize(std::max(points, size_t(nbx) * size_t(nby)));
     for (int j = 0; j <= nby; ++j)
       for (int i = 0; i <= nbx; ++i) {
-        const glm::vec3 dir = direction(float(grid_pixel(x0, x1, i)), float(grid_pixel(y0, y1, j)));
+        const glm::vec3 dir = direction(float(grid_pixel(x0, w, i)), float(grid_pixel(y0, h, j)));
         const size_t g_i = size_t(j) * gw + size_t(i);
         set_direction(g_i, dir);
         s.grid_above[g_i] = glm::dot(dir, f.up) > cos_horizon ? 1 : 0;
@@ -419,8 +423,8 @@ void composite_sky(const SkyFrame& f, FrameBuffers& buffers, int x0, int y0, int
         const bool exact = (above != 0 && above != 4) || nu > cos_near_sun;
         s.block_exact[size_t(j) * size_t(nbx) + size_t(i)] = exact ? 1 : 0;
         if (!exact) {
-          const float cx = 0.5f * float(grid_pixel(x0, x1, i) + grid_pixel(x0, x1, i + 1));
-          const float cy = 0.5f * float(grid_pixel(y0, y1, j) + grid_pixel(y0, y1, j + 1));
+          const float cx = 0.5f * float(grid_pixel(x0, w, i) + grid_pixel(x0, w, i + 1));
+          const float cy = 0.5f * float(grid_pixel(y0, h, j) + grid_pixel(y0, h, j + 1));
           set_direction(s.tested.size(), direction(cx, cy));
           s.tested.push_back(j * nbx + i);
         }
@@ -525,7 +529,7 @@ void composite_sky(const SkyFrame& f, FrameBuffers& buffers, int x0, int y0, int
                 len2 = glm::dot(cam.right, cam.right);
 
     if (n_interp > 0) {
-      const int gy0 = grid_pixel(y0, y1, bj), gy1 = grid_pixel(y0, y1, bj + 1);
+      const int gy0 = grid_pixel(y0, h, bj), gy1 = grid_pixel(y0, h, bj + 1);
       const float wy = gy1 > gy0 ? float(y - gy0) / float(gy1 - gy0) : 0.0f;
       // The grid row interpolated to this row, then each pixel between its two grid columns.
       const glm::vec3* g0 = s.grid.data() + size_t(bj) * gw;

@@ -2,9 +2,11 @@
 // double buffers, the full schedule, the space fallback, determinism.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cstring>
 
 #include "atmosphere/sky_composite.h"
+#include "engine/render/composite_strips.h"
 #include "atmosphere_test_util.h"
 
 using namespace cr;
@@ -233,5 +235,38 @@ TEST_CASE("LUTs and composite are bit-identical for 1, 2 and 3 threads") {
   for (size_t t = 1; t < luts.size(); ++t) {
     for (size_t k = 0; k < luts[0].size(); ++k) CHECK(same_bits(luts[0][k], luts[t][k]));
     CHECK(std::memcmp(images[0].data(), images[t].data(), images[0].size() * sizeof(glm::vec3)) == 0);
+  }
+}
+
+TEST_CASE("the sky composite does not depend on how the frame is split") {
+  JobSystem jobs(2);
+  LutScheduler s(AtmosphereSettings{});  // full-size LUTs: most blocks are interpolated
+  // Looking up, away from the sun: smooth sky, interpolated inside its blocks.
+  const Camera cam =
+      Camera::look_at(glm::dvec3(0.0, 5.0, 0.0), glm::dvec3(-1000.0, 800.0, 300.0), 1.0471976f, 16.0f / 9.0f, 0.1f);
+  const AtmospherePlan p = run_frame(s, 0, cam, sun_from_zenith(60.0), jobs);
+  const SkyFrame f = frame_of(s, p, cam);
+  // Sky above, geometry below with distances that need aerial perspective.
+  FrameBuffers base;
+  base.resize(160, 90);
+  for (int y = 45; y < 90; ++y)
+    for (int x = 0; x < 160; ++x) {
+      base.depth[base.index(x, y)] = 0.5f;
+      base.distance[base.index(x, y)] = 10.0f * float(x * x + y * 100);
+      base.color[base.index(x, y)] = glm::vec3(100.0f);
+    }
+  FrameBuffers whole = base;
+  composite_sky(f, whole, 0, 0, 160, 90);
+  // Rectangles starting at multiples of 8: tiles, and the composite pass's strips at 1 and 3 threads.
+  FrameBuffers tiles = base;
+  for (int y0 = 0; y0 < 90; y0 += 16)
+    for (int x0 = 0; x0 < 160; x0 += 32) composite_sky(f, tiles, x0, y0, x0 + 32, std::min(y0 + 16, 90));
+  CHECK(std::memcmp(whole.color.data(), tiles.color.data(), whole.color.size() * sizeof(glm::vec3)) == 0);
+  for (unsigned threads : {1u, 3u}) {
+    JobSystem strip_jobs(threads);
+    FrameBuffers strips = base;
+    for_each_composite_strip(strip_jobs, "composite", 160, 90,
+                             [&](int x0, int y0, int x1, int y1) { composite_sky(f, strips, x0, y0, x1, y1); });
+    CHECK(std::memcmp(whole.color.data(), strips.color.data(), whole.color.size() * sizeof(glm::vec3)) == 0);
   }
 }
