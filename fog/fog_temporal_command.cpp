@@ -43,9 +43,12 @@ std::vector<Variant> variants(const FogProfileSettings& p) {
           {"no reprojection", single}};
 }
 
-std::vector<glm::vec3> converged(const FogRun& run, const FrameView& view, const Renderer& base, JobSystem& jobs) {
+// The seven jitter samples averaged in one frame, no history; `filter`: with the 3x3 filter.
+std::vector<glm::vec3> converged(const FogRun& run, const FrameView& view, const Renderer& base, JobSystem& jobs,
+                                 bool filter) {
   FogProfileSettings p = run.fog_profile;
   p.reprojection = false;
+  p.filter = filter;
   FroxelFog fog(p, run.fog_scene);
   fog.set_lighting_samples(7);
   FrameView v = view;
@@ -68,7 +71,7 @@ PathError path_error(const FogRun& run, const SceneDescription& path, int frames
   for (int f = 0; f < frames; ++f) {
     base.render_frame(f);
     const FrameView view = base.frame_view(f);
-    const std::vector<glm::vec3> truth = converged(run, view, base, jobs);
+    const std::vector<glm::vec3> truth = converged(run, view, base, jobs, run.fog_profile.filter);
     for (size_t i = 0; i < vs.size(); ++i) {
       const double e = relative_luminance_error(truth, froxel_frame(fogs[i], view, base, jobs, nullptr)).mean;
       if (f < 8) continue;
@@ -147,10 +150,15 @@ int fog_temporal_command(const std::vector<std::string>& args, const PluginRegis
   // Static view.
   Renderer base(*run.scene, run.description, run.profile, plugins_without_fog(registry), jobs);
   base.render_frame(0);
-  const std::vector<glm::vec3> truth = converged(run, view0, base, jobs);
+  // Each variant against what it converges to: a still view with still
+  // accumulation drops the filter.
+  const std::vector<glm::vec3> filtered = converged(run, view0, base, jobs, true);
+  const std::vector<glm::vec3> unfiltered = converged(run, view0, base, jobs, false);
   std::printf("static view: temporal noise (frame-to-frame change) and error vs converged frame\n");
   std::printf("  %-26s %10s %10s\n", "", "noise", "error");
   for (const Variant& v : vs) {
+    const bool filters = v.profile.filter && !(v.profile.reprojection && v.profile.still_accumulation);
+    const std::vector<glm::vec3>& truth = filters ? filtered : unfiltered;
     FroxelFog fog(v.profile, run.fog_scene);
     std::vector<glm::vec3> prev;
     double noise = 0.0, error = 0.0;
