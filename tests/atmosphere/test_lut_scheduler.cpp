@@ -205,6 +205,23 @@ TEST_CASE("above the space altitude the AP LUT is not built and the sky-view LUT
   CHECK(s.skyview()->mapping().first_angle == 0.0f);
 }
 
+namespace {
+
+// Sky in the upper half, geometry below at distances that need aerial perspective.
+FrameBuffers sky_over_geometry(int w, int h) {
+  FrameBuffers b;
+  b.resize(w, h);
+  for (int y = h / 2; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      b.depth[b.index(x, y)] = 0.5f;
+      b.distance[b.index(x, y)] = 10.0f * float(x * x + y * 100);
+      b.color[b.index(x, y)] = glm::vec3(100.0f);
+    }
+  return b;
+}
+
+}  // namespace
+
 TEST_CASE("LUTs and composite are bit-identical for 1, 2 and 3 threads") {
   std::vector<std::vector<LutImage>> luts;
   std::vector<std::vector<glm::vec3>> images;
@@ -219,14 +236,7 @@ TEST_CASE("LUTs and composite are bit-identical for 1, 2 and 3 threads") {
                     s.aerial_perspective()->luminance(), s.aerial_perspective()->transmittance()});
     const Camera cam = camera_at(5.0);
     const SkyFrame f = frame_of(s, p, cam);
-    FrameBuffers b;
-    b.resize(96, 54);
-    for (int y = 27; y < 54; ++y)
-      for (int x = 0; x < 96; ++x) {
-        b.depth[b.index(x, y)] = 0.5f;
-        b.distance[b.index(x, y)] = 10.0f * float(x * x + y * 100);
-        b.color[b.index(x, y)] = glm::vec3(100.0f);
-      }
+    FrameBuffers b = sky_over_geometry(96, 54);
     jobs.parallel_for("composite", 6, 1, [&](size_t b0, size_t b1) {
       for (size_t t = b0; t < b1; ++t) composite_sky(f, b, int(t % 3) * 32, int(t / 3) * 27, int(t % 3) * 32 + 32, int(t / 3) * 27 + 27);
     });
@@ -246,15 +256,7 @@ TEST_CASE("the sky composite does not depend on how the frame is split") {
       Camera::look_at(glm::dvec3(0.0, 5.0, 0.0), glm::dvec3(-1000.0, 800.0, 300.0), 1.0471976f, 16.0f / 9.0f, 0.1f);
   const AtmospherePlan p = run_frame(s, 0, cam, sun_from_zenith(60.0), jobs);
   const SkyFrame f = frame_of(s, p, cam);
-  // Sky above, geometry below with distances that need aerial perspective.
-  FrameBuffers base;
-  base.resize(160, 90);
-  for (int y = 45; y < 90; ++y)
-    for (int x = 0; x < 160; ++x) {
-      base.depth[base.index(x, y)] = 0.5f;
-      base.distance[base.index(x, y)] = 10.0f * float(x * x + y * 100);
-      base.color[base.index(x, y)] = glm::vec3(100.0f);
-    }
+  const FrameBuffers base = sky_over_geometry(160, 90);
   FrameBuffers whole = base;
   composite_sky(f, whole, 0, 0, 160, 90);
   // Rectangles starting at multiples of 8: tiles, and the composite pass's strips at 1 and 3 threads.
