@@ -19,7 +19,10 @@
 // to the last that scatter are worked on: clear air (above the height fog,
 // outside volumes) gets 0 whatever its visibility, so it needs no sample
 // point and no shadow lookup. The jitter of each sample is the same for
-// every column and is taken once per frame.
+// every column and is taken once per frame. When the sun has moved since
+// the history, each sample is also looked up in last frame's shadow map:
+// the difference is the light's own change at that point, which
+// reprojection uses to drop history (see froxel_passes.h).
 #include <algorithm>
 #include <cmath>
 #include <cstdint>

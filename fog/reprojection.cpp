@@ -12,6 +12,10 @@
 // into the history's grid and read with trilinear interpolation; points
 // outside the previous frustum or fog range have no history.
 //
+// Where the sun moved, the history weight is scaled down by the largest
+// light change (light_froxels) in the 3x3 neighbourhood, kept in the same
+// rotating per-column form as the clamp's range.
+//
 // The clamp's 3x3 range is separable: per row, each column's min/max over
 // its vertical neighbours is computed once into a rotating set of three,
 // and a froxel's range combines those of its column and the two beside it
