@@ -8,6 +8,7 @@
 
 #include "engine/core/error.h"
 #include "engine/output/percentile.h"
+#include "engine/render/frame_view.h"
 #include "fog/fog_command_common.h"
 #include "fog/fog_commands.h"
 
@@ -23,11 +24,10 @@ int fog_bench_command(const std::vector<std::string>& args, const PluginRegistry
   FogRun run = load_fog_run(a, registry);
   const int frames = a.get_int("frames", 3, 10000);
   const double sun_turn = a.get_double("sun-turn", -180.0, 180.0);
-  if (sun_turn != 0.0) {
-    JobSystem probe_jobs(1);
-    const Renderer probe(*run.scene, run.description, run.profile, {}, probe_jobs);
-    run.description = with_turning_sun(run.description, probe.frame_view(0), frames, sun_turn);
-  }
+  if (sun_turn != 0.0)
+    run.description = with_turning_sun(
+        run.description, make_frame_view(*run.scene, run.description, 0, run.profile.width, run.profile.height),
+        frames, sun_turn);
   const unsigned all = fog_command_threads(a);
   std::printf("fog-bench %s, %dx%d, median of %d frames\n", run.description.path.c_str(), run.profile.width,
               run.profile.height, frames - 2);

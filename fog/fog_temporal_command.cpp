@@ -16,6 +16,7 @@
 #include <cstdio>
 
 #include "engine/core/error.h"
+#include "engine/render/frame_view.h"
 #include "fog/fog_command_common.h"
 #include "fog/fog_commands.h"
 
@@ -111,8 +112,7 @@ int fog_temporal_command(const std::vector<std::string>& args, const PluginRegis
               run.profile.width, run.profile.height, frames);
 
   // Fast path: explicit camera keys replace the scene's camera.
-  Renderer probe(*run.scene, run.description, run.profile, {}, jobs);
-  const FrameView view0 = probe.frame_view(0);
+  const FrameView view0 = make_frame_view(*run.scene, run.description, 0, run.profile.width, run.profile.height);
   const Camera c0 = view0.camera;
   SceneDescription fast = run.description;
   fast.camera.gltf_camera.reset();

@@ -111,6 +111,9 @@ void light_froxels(const FroxelView& view, const std::vector<FogDensity>& densit
                    const std::function<void(int y0, int y1)>& before_rows = nullptr,
                    const VolumeShadow* previous = nullptr, std::vector<float>* light_change = nullptr);
 
+// The same camera and grid layout: history is read in place.
+bool same_view(const FroxelView& a, const FroxelView& b);
+
 // fog.reproject: out = lerp(current, history(reprojected centre), weight);
 // history is rejected outside the previous grid (frustum and depth range) or
 // where it reads a froxel the previous frame culled, and, with clamp, limited
@@ -120,9 +123,6 @@ void light_froxels(const FroxelView& view, const std::vector<FogDensity>& densit
 // largest change in its 3x3 neighbourhood in the slice): where a moving sun
 // changed the visibility, history is dropped in proportion (a one-point
 // measure misses most of a froxel, its neighbours' see the edge coming).
-// The same camera and grid layout: history is read in place.
-bool same_view(const FroxelView& a, const FroxelView& b);
-
 struct ReprojectStats {
   bool identity = false;       // same camera: history read in place
   size_t rejected = 0;         // froxels without history

@@ -216,17 +216,21 @@ ReprojectStats reproject_history(const FroxelView& view, const std::vector<float
     for (int y = int(begin); y < int(end); ++y) {
       const int ya = std::max(y - 1, 0), yb = std::min(y + 1, ny - 1);
       const uint16_t* lit_row = lit_all + size_t(y) * nx;
+      // The slices any of xc - 1, xc, xc + 1 produces.
+      auto need_of = [&](int xc) {
+        return int(std::max({lit_row[std::max(xc - 1, 0)], lit_row[xc], lit_row[std::min(xc + 1, nx - 1)]}));
+      };
       // Range of column xc of this row and its vertical neighbours over the
       // slices any of x - 1, x, x + 1 produces, into slot xc mod 3.
       auto vertical_range = [&](int xc) {
-        const int need = std::max({lit_row[std::max(xc - 1, 0)], lit_row[xc], lit_row[std::min(xc + 1, nx - 1)]});
+        const int need = need_of(xc);
         vertical_min_max(cur_all + g.index(xc, ya, 0), lit_all[size_t(ya) * nx + xc],
                          cur_all + g.index(xc, y, 0), lit_row[xc], cur_all + g.index(xc, yb, 0),
                          lit_all[size_t(yb) * nx + xc], need, range_lo.data() + size_t(xc % 3) * nz,
                          range_hi.data() + size_t(xc % 3) * nz);
       };
       auto vertical_change = [&](int xc) {
-        const int need = std::max({lit_row[std::max(xc - 1, 0)], lit_row[xc], lit_row[std::min(xc + 1, nx - 1)]});
+        const int need = need_of(xc);
         const float* lc = light_change->data();
         vertical_max(lc + g.index(xc, ya, 0), lit_all[size_t(ya) * nx + xc], lc + g.index(xc, y, 0), lit_row[xc],
                      lc + g.index(xc, yb, 0), lit_all[size_t(yb) * nx + xc], need,
