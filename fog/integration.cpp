@@ -123,7 +123,11 @@ void integrate_columns(const FroxelView& view, const std::vector<FogDensity>& de
         light.ambient = phase_convolved_ambient(lighting.ambient_sh, zonal, dir);
         const size_t base = g.index(x, y, 0);
         const FogDensity* d = density.data() + base;
-        column_terms(d, sun_visibility.data() + base, dt.data(), center.data(), n, light, terms);
+        // The terms run to a whole number of 8-slice blocks (within the
+        // column): the vectorised loop then has no scalar remainder, and the
+        // slices past n, stale but finite, are computed and never read.
+        const int whole_blocks = std::min((n + 7) / 8 * 8, nz);
+        column_terms(d, sun_visibility.data() + base, dt.data(), center.data(), whole_blocks, light, terms);
         // The front-to-back recurrence.
         IntegratedFroxel* out = volume.data() + base;
         glm::vec3 in_scatter(0.0f);
