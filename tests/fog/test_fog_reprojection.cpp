@@ -3,13 +3,15 @@
 // 3x3 columns around (clamped at the grid's edges), in the same slice, over
 // the neighbours lit there, then blended; same bits, with depth culling
 // cutting columns at random lengths (also at the grid's edges). And for a
-// moving camera, no trilinear read touches a slice the history culled.
+// moving camera, no trilinear read touches a slice the history culled, and
+// the history read's eight-lane path gives its one-slice definition's bits.
 #include <doctest/doctest.h>
 
 #include <cstring>
 #include <random>
 
 #include "fog/froxel_passes.h"
+#include "fog/history_projection.h"
 
 using namespace cr;
 
@@ -108,5 +110,43 @@ TEST_CASE("a moving camera's history reads never touch a slice the history culle
       }
     CHECK(read > 0);
     CHECK(beyond == 0);
+  }
+}
+
+TEST_CASE("the moving-camera history read gives its one-slice definition's bits") {
+  for (unsigned seed = 1; seed <= 4; ++seed) {
+    ClampCase c = random_case(seed);
+    const FroxelGrid& g = c.view.grid;
+    std::mt19937 rng(seed + 300);
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+    std::uniform_int_distribution<int> coin(0, 3), length(0, g.nz());
+    // Most history columns whole, the rest culled at random lengths.
+    for (auto& lit : c.view.lit_slices)
+      if (coin(rng) != 0) lit = uint16_t(g.nz());
+    const HistoryProjection projection(c.view, c.history);
+    HistoryProjection::Scratch scratch(g.nz());
+    std::vector<float> cur(size_t(g.nz())), fast(size_t(g.nz())), definition(size_t(g.nz()));
+    size_t last_slice = 0, compared = 0;
+    for (int column = 0; column < 400; ++column) {
+      // Points anywhere in the grid, some on its last column, row or slice
+      // (no neighbour beyond), some outside the history's frustum.
+      auto coordinate = [&](int n) { return coin(rng) == 0 ? float(n - 1) : unit(rng) * float(n - 1); };
+      for (int k = 0; k < g.nz(); ++k) {
+        scratch.fx[size_t(k)] = coordinate(g.nx());
+        scratch.fy[size_t(k)] = coordinate(g.ny());
+        scratch.fz[size_t(k)] = coordinate(g.nz());
+        scratch.inside[size_t(k)] = coin(rng) != 0;
+        cur[size_t(k)] = unit(rng);
+        last_slice += scratch.fz[size_t(k)] == float(g.nz() - 1);
+      }
+      const int n = length(rng);
+      const size_t rejected = projection.read(scratch, cur.data(), n, fast.data());
+      const size_t expected = projection.read_slices(scratch, cur.data(), 0, n, definition.data());
+      CHECK(rejected == expected);
+      CHECK(std::memcmp(fast.data(), definition.data(), sizeof(float) * size_t(n)) == 0);
+      compared += size_t(n) - expected;
+    }
+    CHECK(last_slice > 0);
+    CHECK(compared > 1000);  // many reads that take history, not only rejections
   }
 }
