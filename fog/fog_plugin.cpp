@@ -72,6 +72,7 @@ void FogPlugin::report_frame(nlohmann::json& frame) {
   frame["still_frames"] = s.still_frames;
   frame["filtered"] = s.filtered;
   frame["lighting_frozen"] = s.lighting_frozen;
+  frame["volume_kept"] = s.volume_kept;
 }
 
 }  // namespace cr

@@ -19,6 +19,7 @@ void FroxelFog::begin_frame(const FrameView& view, JobSystem& jobs, const std::v
   frame_ = view.frame;
   use_history_ = profile_.reprojection && have_history_ && view.history_valid;
   stats_ = FroxelFogStats{};
+  frozen_ = false;  // until lighting finds a converged still view
   stats_.history_used = use_history_;
   for (size_t c = 0; c < grid.columns(); ++c) {
     stats_.lit_froxels += view_.lit_slices[c];
@@ -50,7 +51,10 @@ void FroxelFog::lighting(const ShadowMap& shadow, JobSystem& jobs, const ShadowM
   stats_.light_changed = light_changed_;
   // A still view: the history was lit by the same camera and sun, so its
   // samples differ from this frame's only by the jitter.
-  still_ = use_history_ && !sun_moved && same_view(view_, history_view_);
+  // The same froxels are lit and active too (static geometry): a frozen
+  // view keeps their visibility and density.
+  still_ = use_history_ && !sun_moved && same_view(view_, history_view_) &&
+           view_.lit_slices == history_view_.lit_slices && view_.active_slices == history_view_.active_slices;
   // After kFreezeFrames still frames the running mean holds the jitter
   // sequence evenly (to 1/64) and the history from before the still run at
   // under 5% of its weight: a new sample changes nothing visible, so the
@@ -58,6 +62,7 @@ void FroxelFog::lighting(const ShadowMap& shadow, JobSystem& jobs, const ShadowM
   frozen_ = still_ && profile_.still_accumulation && still_frames_ >= kFreezeFrames;
   stats_.lighting_frozen = frozen_;
   if (frozen_) return;
+  volume_stale_ = true;
   const VolumeShadow previous_shadow = light_changed_ ? VolumeShadow(*previous, view_.camera.position) : VolumeShadow();
   // Each job voxelises its rows right before lighting them (in cache).
   light_froxels(
@@ -112,7 +117,15 @@ void FroxelFog::integrate(const LightEnvironment& light, JobSystem& jobs) {
   m.light = &light;
   m.camera_position = view_.camera.position;
   m.ambient_sh = light.ambient_sh;
-  integrate_columns(view_, density_, sun_visibility(), m, jobs, volume_);
+  std::vector<glm::vec3> knots = sun_knots(view_, m, jobs);
+  // Nothing the integration reads has changed (a frozen view's density and
+  // visibility, the same light): last frame's volume is this frame's, bit for bit.
+  stats_.volume_kept = frozen_ && !volume_stale_ && same_medium_lighting(m, integrated_light_) && knots == integrated_knots_;
+  if (stats_.volume_kept) return;
+  integrate_columns(view_, density_, sun_visibility(), m, knots, jobs, volume_);
+  integrated_light_ = m;
+  integrated_knots_ = std::move(knots);
+  volume_stale_ = false;
 }
 
 void FroxelFog::composite(FrameBuffers& buffers, int x0, int y0, int x1, int y1) const {

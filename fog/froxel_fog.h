@@ -30,6 +30,7 @@ struct FroxelFogStats {
   int still_frames = 0;        // consecutive frames of a still view (same camera and sun) with history
   bool filtered = false;       // the 3x3 filter ran this frame
   bool lighting_frozen = false;  // a converged still view: lighting and reprojection skipped
+  bool volume_kept = false;      // ... and under the same light: integration skipped too
 };
 
 class FroxelFog {
@@ -100,6 +101,11 @@ class FroxelFog {
   int still_frames_ = 0;
   int blended_ = -1;  // the reprojection's output: history_[blended_], or sun_current_ when -1
   std::vector<IntegratedFroxel> volume_;
+  // What volume_ was integrated from: stale once lighting (density and
+  // visibility) runs again; the light and sun knots it was integrated under.
+  bool volume_stale_ = true;
+  MediumLighting integrated_light_;
+  std::vector<glm::vec3> integrated_knots_;
   FroxelFogStats stats_;
 };
 

@@ -151,12 +151,26 @@ struct MediumLighting {
   glm::dvec3 camera_position{0.0};
   std::array<glm::vec3, 9> ambient_sh{};
 };
+// The same values (sun_at, a function, is compared through its results: sun_knots).
+inline bool same_medium_lighting(const MediumLighting& a, const MediumLighting& b) {
+  return a.phase == b.phase && a.anisotropy == b.anisotropy && a.sun_direction == b.sun_direction &&
+         a.sun_illuminance == b.sun_illuminance && a.camera_position == b.camera_position &&
+         a.ambient_sh == b.ambient_sh && (a.light && a.light->sun_at) == (b.light && b.light->sun_at);
+}
+// The sun's illuminance where integration takes it: it varies slowly (the
+// atmosphere's transmittance with altitude), so per row of columns sun_at
+// runs at every kSunStride-th column (and the last), at the first and last
+// slice centres: sun_knots_per_row knots of 2 values, row after row. Empty
+// without sun_at (the illuminance is then the same everywhere).
+constexpr int kSunStride = 8;
+constexpr int sun_knots_per_row(int nx) { return (nx - 1) / kSunStride + 2; }
+std::vector<glm::vec3> sun_knots(const FroxelView& view, const MediumLighting& lighting, JobSystem& jobs);
 // fog.integrate: front-to-back per column over its active slices. The phase
-// function and the sun's illuminance are applied here at the column's centre
-// direction (never jittered, never reprojected).
+// function and the sun's illuminance (lerped between the knots) are applied
+// here at the column's centre direction (never jittered, never reprojected).
 void integrate_columns(const FroxelView& view, const std::vector<FogDensity>& density,
-                       const std::vector<float>& sun_visibility, const MediumLighting& lighting, JobSystem& jobs,
-                       std::vector<IntegratedFroxel>& volume);
+                       const std::vector<float>& sun_visibility, const MediumLighting& lighting,
+                       const std::vector<glm::vec3>& knots, JobSystem& jobs, std::vector<IntegratedFroxel>& volume);
 
 // Composite of pixels [x0,x1) x [y0,y1): colour = colour * T + L at the
 // pixel's distance. Bilinear across columns; along depth the froxel's

@@ -70,9 +70,30 @@ void column_terms(const FogDensity* __restrict d,
 
 }  // namespace
 
+std::vector<glm::vec3> sun_knots(const FroxelView& view, const MediumLighting& lighting, JobSystem& jobs) {
+  if (!lighting.light || !lighting.light->sun_at) return {};
+  const FroxelGrid& g = view.grid;
+  const int nx = g.nx(), knots = sun_knots_per_row(nx);
+  const float t_first = g.center(0), t_last = g.center(g.nz() - 1);
+  std::vector<glm::vec3> out(size_t(g.ny()) * size_t(knots) * 2);
+  jobs.parallel_for("fog.sun_knots", size_t(g.ny()), 1, [&](size_t begin, size_t end) {
+    std::vector<glm::vec3> ends(size_t(knots) * 2);
+    for (size_t y = begin; y < end; ++y) {
+      for (int i = 0; i < knots; ++i) {
+        const glm::vec3 dir = view.directions[y * nx + size_t(std::min(i * kSunStride, nx - 1))];
+        ends[size_t(i) * 2] = glm::vec3(lighting.camera_position + glm::dvec3(dir * t_first));
+        ends[size_t(i) * 2 + 1] = glm::vec3(lighting.camera_position + glm::dvec3(dir * t_last));
+      }
+      // One batch per row, as integration used to call it.
+      lighting.light->sun_at(ends.data(), out.data() + y * ends.size(), ends.size());
+    }
+  });
+  return out;
+}
+
 void integrate_columns(const FroxelView& view, const std::vector<FogDensity>& density,
-                       const std::vector<float>& sun_visibility, const MediumLighting& lighting, JobSystem& jobs,
-                       std::vector<IntegratedFroxel>& volume) {
+                       const std::vector<float>& sun_visibility, const MediumLighting& lighting,
+                       const std::vector<glm::vec3>& knots, JobSystem& jobs, std::vector<IntegratedFroxel>& volume) {
   const FroxelGrid& g = view.grid;
   volume.resize(g.count());
   const int nx = g.nx(), nz = g.nz();
@@ -83,24 +104,15 @@ void integrate_columns(const FroxelView& view, const std::vector<FogDensity>& de
   }
   const float t_first = g.center(0), t_last = g.center(nz - 1);
   const std::array<float, 3> zonal = phase_zonal_coefficients(lighting.phase, lighting.anisotropy);
-  const bool sun_at = lighting.light && lighting.light->sun_at;
+  const size_t row_knots = size_t(sun_knots_per_row(nx)) * 2;
   jobs.parallel_for("fog.integrate", size_t(g.ny()), 1, [&](size_t begin, size_t end) {
     ColumnTerms terms(nz);
-    // Per row of columns: the sun's illuminance at each column's ends. It
-    // varies slowly across columns too, so sun_at runs for every
-    // kSunStride-th column (and the last) and the columns between lerp.
-    constexpr int kSunStride = 8;
-    const int knots = (nx - 1) / kSunStride + 2;
-    std::vector<glm::vec3> ends(size_t(knots) * 2), knot_e(size_t(knots) * 2, lighting.sun_illuminance);
+    // Per row of columns: the sun's illuminance at each column's ends,
+    // lerped between the knots.
     std::vector<glm::vec3> e(size_t(nx) * 2, lighting.sun_illuminance);
     for (int y = int(begin); y < int(end); ++y) {
-      if (sun_at) {
-        for (int i = 0; i < knots; ++i) {
-          const glm::vec3 dir = view.directions[size_t(y) * nx + size_t(std::min(i * kSunStride, nx - 1))];
-          ends[size_t(i) * 2] = glm::vec3(lighting.camera_position + glm::dvec3(dir * t_first));
-          ends[size_t(i) * 2 + 1] = glm::vec3(lighting.camera_position + glm::dvec3(dir * t_last));
-        }
-        lighting.light->sun_at(ends.data(), knot_e.data(), ends.size());
+      if (!knots.empty()) {
+        const glm::vec3* knot_e = knots.data() + size_t(y) * row_knots;
         for (int x = 0; x < nx; ++x) {
           const int i = x / kSunStride, x0 = i * kSunStride, x1 = std::min(x0 + kSunStride, nx - 1);
           const float a = x1 > x0 ? float(x - x0) / float(x1 - x0) : 0.0f;

@@ -4,6 +4,7 @@
 #include <doctest/doctest.h>
 
 #include <array>
+#include <utility>
 
 #include "fog_test_scene.h"
 
@@ -88,7 +89,7 @@ TEST_CASE("reprojection of a static view converges to the non-temporal many-samp
   CHECK(converged[1] < 0.25 * converged[0]);
 }
 
-TEST_CASE("a converged still view keeps its lighting until the camera or the sun moves") {
+TEST_CASE("a converged still view keeps its lighting until the camera, the sun or the geometry moves") {
   JobSystem jobs(2);
   const Camera cam = camera_at({-6, 3, 20}, {2, 4, -10}, kW, kH);
   const Camera moved = camera_at({-6, 3, 20.01}, {2, 4, -10}, kW, kH);
@@ -103,22 +104,44 @@ TEST_CASE("a converged still view keeps its lighting until the camera or the sun
   for (int f = 0; f <= kFreeze + 2; ++f) {
     const auto out = composite(fog, frame_view(cam, cam, f, f > 0, kW, kH), l, shadow, jobs, sky_distances(), {});
     CHECK(fog.stats().lighting_frozen == (f > kFreeze));
+    CHECK(fog.stats().volume_kept == (f > kFreeze));  // the same light: no integration either
     if (f == kFreeze) error_before = mean_relative_error(reference, out);
     if (f > kFreeze) CHECK(out == last);  // nothing recomputed, nothing changes
     last = out;
   }
   MESSAGE("still view error against the seven-sample result when it freezes: " << error_before);
   CHECK(error_before < 0.002);
+  // Other light on the frozen visibility (a brighter sun, then sun_at, then
+  // sun_at giving other values): integrated again, and the frame changes.
+  const LightEnvironment brighter = light(kSun, 12000.0f, 50.0f);
+  LightEnvironment hazy = l, hazier = l;
+  hazy.sun_at = [](const glm::vec3*, glm::vec3* out, size_t n) { std::fill(out, out + n, glm::vec3(9000.0f)); };
+  hazier.sun_at = [](const glm::vec3*, glm::vec3* out, size_t n) { std::fill(out, out + n, glm::vec3(8000.0f)); };
+  int f = kFreeze + 3;
+  for (const LightEnvironment* other : {&brighter, &std::as_const(hazy), &std::as_const(hazier)}) {
+    const auto out = composite(fog, frame_view(cam, cam, f++, true, kW, kH), *other, shadow, jobs, sky_distances(), {});
+    CHECK(fog.stats().lighting_frozen);
+    CHECK_FALSE(fog.stats().volume_kept);
+    CHECK(out != last);
+    last = out;
+  }
+  // Geometry that moved in front of the still camera changes which froxels
+  // are lit: not a still view.
+  std::vector<float> wall = sky_distances();
+  std::fill(wall.begin(), wall.begin() + wall.size() / 2, 6.0f);
+  composite(fog, frame_view(cam, cam, f++, true, kW, kH), l, shadow, jobs, wall, {});
+  CHECK_FALSE(fog.stats().lighting_frozen);
+  CHECK(fog.stats().still_frames == 0);
   // A camera move (1 cm) or a sun move thaws it.
-  composite(fog, frame_view(moved, cam, kFreeze + 3, true, kW, kH), l, wall_shadow(moved, kSun), jobs,
+  composite(fog, frame_view(moved, cam, f++, true, kW, kH), l, wall_shadow(moved, kSun), jobs,
             sky_distances(), {});
   CHECK_FALSE(fog.stats().lighting_frozen);
   CHECK(fog.stats().still_frames == 0);
-  for (int f = kFreeze + 4; f <= 2 * kFreeze + 5; ++f)
-    composite(fog, frame_view(moved, moved, f, true, kW, kH), l, wall_shadow(moved, kSun), jobs, sky_distances(), {});
+  for (int still = 0; still <= kFreeze; ++still)
+    composite(fog, frame_view(moved, moved, f++, true, kW, kH), l, wall_shadow(moved, kSun), jobs, sky_distances(), {});
   CHECK(fog.stats().lighting_frozen);
   const glm::vec3 sun2 = glm::normalize(kSun + glm::vec3(0.0f, 0.01f, 0.0f));
-  composite(fog, frame_view(moved, moved, 2 * kFreeze + 6, true, kW, kH), light(sun2, 10000.0f, 50.0f),
+  composite(fog, frame_view(moved, moved, f++, true, kW, kH), light(sun2, 10000.0f, 50.0f),
             wall_shadow(moved, sun2), jobs, sky_distances(), {});
   CHECK_FALSE(fog.stats().lighting_frozen);
 }
