@@ -1,0 +1,62 @@
+#include "fog/fog_accuracy.h"
+
+#include <algorithm>
+#include <chrono>
+
+#include "fog/fog_reference.h"
+
+namespace cr {
+
+FogAccuracy measure_fog_accuracy(const FogRun& run, const PluginRegistry& registry, JobSystem& jobs, int frame,
+                                 int samples, int warmup) {
+  Renderer base(*run.scene, run.description, run.profile, plugins_without_fog(registry), jobs);
+  base.render_frame(frame);
+  const FrameView view = base.frame_view(frame);
+  const int w = base.buffers().width, h = base.buffers().height;
+
+  const auto t0 = std::chrono::steady_clock::now();
+  const FogReferenceImage ref = render_fog_reference(run.fog_scene, run.fog_profile.fog_distance, view.camera, w, h,
+                                                     base.light_environment(), base.shadow_map(),
+                                                     base.buffers().distance, samples, jobs);
+  FogAccuracy out;
+  out.width = w;
+  out.height = h;
+  out.reference_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  std::vector<glm::vec3> reference = base.buffers().color;
+  for (size_t i = 0; i < reference.size(); ++i)
+    reference[i] = reference[i] * ref.transmittance[i] + ref.in_scatter[i];
+
+  struct Config {
+    const char* name;
+    FogProfileSettings profile;
+    int frames;
+  };
+  FogProfileSettings single = run.fog_profile;
+  single.reprojection = false;
+  FogProfileSettings fine = single;
+  fine.jitter = false;
+  fine.froxel_size_px = std::max(1, run.fog_profile.froxel_size_px / 2);
+  fine.slices = run.fog_profile.slices * 2;
+  const Config configs[] = {{"temporal", run.fog_profile, run.fog_profile.reprojection ? warmup + 1 : 1},
+                            {"single", single, 1},
+                            {"2x non-temporal", fine, 1}};
+
+  for (const Config& c : configs) {
+    FroxelFog fog(c.profile, run.fog_scene);
+    FroxelTimes times;
+    std::vector<glm::vec3> image;
+    for (int i = 0; i < c.frames; ++i) {
+      FrameView v = view;
+      v.frame = frame + i;  // a static view: only the jitter sequence advances
+      v.prev_camera = v.camera;
+      v.history_valid = i > 0;
+      image = froxel_frame(fog, v, base, jobs, &times);
+    }
+    const FroxelGrid& g = fog.grid();
+    out.rows.push_back(FogAccuracyRow{c.name, g.nx(), g.ny(), g.nz(), times.passes(), times.composite,
+                                      relative_luminance_error(reference, image)});
+  }
+  return out;
+}
+
+}  // namespace cr
