@@ -120,7 +120,8 @@ void FroxelFog::integrate(const LightEnvironment& light, JobSystem& jobs) {
   std::vector<glm::vec3> knots = sun_knots(view_, m, jobs);
   // Nothing the integration reads has changed (a frozen view's density and
   // visibility, the same light): last frame's volume is this frame's, bit for bit.
-  stats_.volume_kept = frozen_ && !volume_stale_ && same_medium_lighting(m, integrated_light_) && knots == integrated_knots_;
+  stats_.volume_kept =
+      frozen_ && !volume_stale_ && same_medium_lighting(m, integrated_light_) && knots == integrated_knots_;
   if (stats_.volume_kept) return;
   integrate_columns(view_, density_, sun_visibility(), m, knots, jobs, volume_);
   integrated_light_ = m;

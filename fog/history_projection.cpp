@@ -37,22 +37,24 @@ __attribute__((target("avx2"))) size_t read_avx2(const HistoryProjection& p, con
     const __m256i row0 = _mm256_mullo_epi32(y0, nx_v), row1 = _mm256_mullo_epi32(y1, nx_v);
     // Loads start at min(z0, nz - 2), inside the column (a last-slice lane's values are not used).
     const __m256i z_load = _mm256_min_epi32(z0, _mm256_set1_epi32(nz - 2));
-    alignas(32) int32_t column[8], at[4][8];
-    _mm256_store_si256(reinterpret_cast<__m256i*>(column), _mm256_add_epi32(row0, x0));
+    // Each tap's column (c00, c10, c01, c11) and the index its loads start at.
     const __m256i taps[4] = {_mm256_add_epi32(row0, x0), _mm256_add_epi32(row0, x1), _mm256_add_epi32(row1, x0),
                              _mm256_add_epi32(row1, x1)};
+    alignas(32) int32_t column[8], at[4][8];
+    _mm256_store_si256(reinterpret_cast<__m256i*>(column), taps[0]);
     for (int t = 0; t < 4; ++t)
-      _mm256_store_si256(reinterpret_cast<__m256i*>(at[t]), _mm256_add_epi32(_mm256_mullo_epi32(taps[t], nz_v), z_load));
+      _mm256_store_si256(reinterpret_cast<__m256i*>(at[t]),
+                         _mm256_add_epi32(_mm256_mullo_epi32(taps[t], nz_v), z_load));
     alignas(32) int32_t lit[8];
     for (int j = 0; j < 8; ++j) lit[j] = p.lit_2x2[size_t(column[j])];
     // History where the point is inside and the 2x2 columns hold z0 + 1;
     // the grid's last slice (z0 + 1 would be the next column) goes scalar.
     const __m256i at_last = _mm256_cmpeq_epi32(z0, last_z);
-    const __m256i inside = _mm256_cmpgt_epi32(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(&s.inside[size_t(k)])),
-                                              _mm256_setzero_si256());
+    const __m256i inside = _mm256_cmpgt_epi32(
+        _mm256_loadu_si256(reinterpret_cast<const __m256i*>(&s.inside[size_t(k)])), _mm256_setzero_si256());
     const __m256i held = _mm256_cmpgt_epi32(_mm256_load_si256(reinterpret_cast<const __m256i*>(lit)),
                                             _mm256_add_epi32(z0, one));
-    const int use = _mm256_movemask_ps(_mm256_castsi256_ps(_mm256_andnot_si256(at_last, _mm256_and_si256(inside, held))));
+    const __m256 take = _mm256_castsi256_ps(_mm256_andnot_si256(at_last, _mm256_and_si256(inside, held)));
     const int scalar = _mm256_movemask_ps(_mm256_castsi256_ps(at_last));
     {
       // As read_slices: the history two columns to the right of the first point.
@@ -87,9 +89,8 @@ __attribute__((target("avx2"))) size_t read_avx2(const HistoryProjection& p, con
     const __m256 v0 = _mm256_add_ps(v00, _mm256_mul_ps(_mm256_sub_ps(v10, v00), ax));
     const __m256 v1 = _mm256_add_ps(v01, _mm256_mul_ps(_mm256_sub_ps(v11, v01), ax));
     const __m256 value = _mm256_add_ps(v0, _mm256_mul_ps(_mm256_sub_ps(v1, v0), ay));
-    const __m256 use_lanes = _mm256_castsi256_ps(_mm256_andnot_si256(at_last, _mm256_and_si256(inside, held)));
-    _mm256_storeu_ps(h + k, _mm256_blendv_ps(_mm256_loadu_ps(cur + k), value, use_lanes));
-    rejected += size_t(__builtin_popcount(unsigned(~(use | scalar) & 0xff)));
+    _mm256_storeu_ps(h + k, _mm256_blendv_ps(_mm256_loadu_ps(cur + k), value, take));
+    rejected += size_t(__builtin_popcount(unsigned(~(_mm256_movemask_ps(take) | scalar) & 0xff)));
     for (int m = scalar; m != 0; m &= m - 1) {
       const int j = __builtin_ctz(unsigned(m));
       rejected += p.read_slices(s, cur, k + j, k + j + 1, h);

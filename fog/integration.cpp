@@ -84,7 +84,7 @@ std::vector<glm::vec3> sun_knots(const FroxelView& view, const MediumLighting& l
         ends[size_t(i) * 2] = glm::vec3(lighting.camera_position + glm::dvec3(dir * t_first));
         ends[size_t(i) * 2 + 1] = glm::vec3(lighting.camera_position + glm::dvec3(dir * t_last));
       }
-      // One batch per row, as integration used to call it.
+      // One sun_at batch per row.
       lighting.light->sun_at(ends.data(), out.data() + y * ends.size(), ends.size());
     }
   });

@@ -74,7 +74,8 @@ TEST_CASE("fog-accuracy: twice the froxel resolution is closer to the ray-marche
   REQUIRE(std::filesystem::exists(kVolumes));
   const PluginRegistry registry = fog_registry();
   const test::ScratchDir dir("fog-accuracy");
-  std::ofstream(dir.file("small.json")) << R"({"resolution": [256, 144], "shadow_map_size": 512, "fog": {"slices": 32}})";
+  std::ofstream(dir.file("small.json"))
+      << R"({"resolution": [256, 144], "shadow_map_size": 512, "fog": {"slices": 32}})";
   ArgParser args("fog-accuracy", "", "");
   add_fog_command_options(args);
   REQUIRE(args.parse({kVolumes, "--profile", dir.file("small.json")}, 1, 1));
