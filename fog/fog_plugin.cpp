@@ -71,6 +71,7 @@ void FogPlugin::report_frame(nlohmann::json& frame) {
   frame["light_changed"] = s.light_changed;
   frame["still_frames"] = s.still_frames;
   frame["filtered"] = s.filtered;
+  frame["density_kept"] = s.density_kept;
   frame["lighting_frozen"] = s.lighting_frozen;
   frame["volume_kept"] = s.volume_kept;
 }

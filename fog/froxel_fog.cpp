@@ -28,9 +28,19 @@ void FroxelFog::begin_frame(const FrameView& view, JobSystem& jobs, const std::v
 }
 
 void FroxelFog::density() {
-  density_plan_ = plan_density(view_, medium_, profile_.density_samples);
+  // The medium is static: for the same camera and lit froxels the last
+  // voxelisation is this frame's, bit for bit (a still view voxelises once).
+  density_kept_ = density_valid_ && same_view(view_, density_view_) && view_.lit_slices == density_view_.lit_slices;
+  stats_.density_kept = density_kept_;
+  if (!density_kept_) {
+    density_plan_ = plan_density(view_, medium_, profile_.density_samples);
+    density_.resize(view_.grid.count());
+    density_valid_ = false;  // until the lighting has voxelised it
+    density_view_.grid = view_.grid;
+    density_view_.camera = view_.camera;
+    density_view_.lit_slices = view_.lit_slices;
+  }
   stats_.voxelize = density_plan_.stats;
-  density_.resize(view_.grid.count());
 }
 
 void FroxelFog::lighting(const ShadowMap& shadow, JobSystem& jobs, const ShadowMap* previous) {
@@ -59,16 +69,25 @@ void FroxelFog::lighting(const ShadowMap& shadow, JobSystem& jobs, const ShadowM
   // sequence evenly (to 1/64) and the history from before the still run at
   // under 5% of its weight: a new sample changes nothing visible, so the
   // visibility (and the density it was lit with) is kept as it is.
-  frozen_ = still_ && profile_.still_accumulation && still_frames_ >= kFreezeFrames;
+  frozen_ = still_ && profile_.still_accumulation && still_frames_ >= kFreezeFrames && density_kept_;
   stats_.lighting_frozen = frozen_;
   if (frozen_) return;
   volume_stale_ = true;
   const VolumeShadow previous_shadow = light_changed_ ? VolumeShadow(*previous, view_.camera.position) : VolumeShadow();
   // Each job voxelises its rows right before lighting them (in cache).
-  light_froxels(
-      view_, density_, volume_shadow, jitter, jobs, sun_current_,
-      [this](int y0, int y1) { voxelize_rows(view_, medium_, density_plan_, y0, y1, density_); },
-      light_changed_ ? &previous_shadow : nullptr, light_changed_ ? &light_change_ : nullptr);
+  const std::function<void(int, int)> voxelize = [this](int y0, int y1) {
+    voxelize_rows(view_, medium_, density_plan_, y0, y1, density_);
+  };
+  // A kept density is read from memory instead: requested ahead, row by row.
+  const std::function<void(int, int)> prefetch = [this](int y0, int y1) {
+    const FroxelGrid& g = view_.grid;
+    const char* begin = reinterpret_cast<const char*>(density_.data() + g.index(0, y0, 0));
+    const char* end = reinterpret_cast<const char*>(density_.data() + g.index(0, y1, 0));
+    for (const char* p = begin; p < end; p += 64) __builtin_prefetch(p);
+  };
+  light_froxels(view_, density_, volume_shadow, jitter, jobs, sun_current_, density_kept_ ? prefetch : voxelize,
+                light_changed_ ? &previous_shadow : nullptr, light_changed_ ? &light_change_ : nullptr);
+  density_valid_ = true;
   blended_ = -1;
 }
 

@@ -29,6 +29,7 @@ struct FroxelFogStats {
   bool light_changed = false;  // the sun moved since the history: light change measured
   int still_frames = 0;        // consecutive frames of a still view (same camera and sun) with history
   bool filtered = false;       // the 3x3 filter ran this frame
+  bool density_kept = false;     // the same camera and lit froxels: last voxelisation kept
   bool lighting_frozen = false;  // a converged still view: lighting and reprojection skipped
   bool volume_kept = false;      // ... and under the same light: integration skipped too
 };
@@ -85,6 +86,10 @@ class FroxelFog {
   int lighting_samples_ = 1;
   DensityPlan density_plan_;
   std::vector<FogDensity> density_;
+  // The view density_ was voxelised for (grid, camera and lit slices only).
+  FroxelView density_view_;
+  bool density_valid_ = false;  // density_ holds density_view_'s voxelisation
+  bool density_kept_ = false;   // this frame's view is density_view_: no voxelisation
   std::vector<float> sun_current_;
   std::vector<float> light_change_;  // valid this frame when light_changed_
   bool light_changed_ = false;

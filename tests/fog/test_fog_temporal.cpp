@@ -4,6 +4,7 @@
 #include <doctest/doctest.h>
 
 #include <array>
+#include <cstring>
 #include <utility>
 
 #include "fog_test_scene.h"
@@ -144,6 +145,51 @@ TEST_CASE("a converged still view keeps its lighting until the camera, the sun o
   composite(fog, frame_view(moved, moved, f++, true, kW, kH), light(sun2, 10000.0f, 50.0f),
             wall_shadow(moved, sun2), jobs, sky_distances(), {});
   CHECK_FALSE(fog.stats().lighting_frozen);
+}
+
+TEST_CASE("a still view voxelises its density once; the kept density is a fresh voxelisation's bits") {
+  JobSystem jobs(2);
+  FogSceneSettings scene = uniform_fog(0.03f, glm::vec3(0.9f), 0.4f);
+  scene.base_height = 0.0f;
+  scene.max_height = 20.0f;
+  FogVolume v;
+  v.center = {0, 2, -15};
+  v.half_size = {4, 3, 5};
+  v.extinction = 0.5f;
+  v.fade = 1.0f;
+  v.noise.enabled = true;
+  scene.volumes.push_back(v);
+  const Camera cam = camera_at({-3, 2, 10}, {0, 2, -10}, kW, kH);
+  const Camera moved = camera_at({-3, 2, 10.01}, {0, 2, -10}, kW, kH);
+  const ShadowMap shadow = wall_shadow(cam, kSun);
+  const LightEnvironment l = light(kSun, 10000.0f, 50.0f);
+  std::vector<float> distance(size_t(kW) * kH);
+  for (size_t i = 0; i < distance.size(); ++i) distance[i] = i % 3 == 0 ? INFINITY : 2.0f + float(i % 50);
+  FroxelFog fog(profile(true), scene);
+  for (int f = 0; f < 4; ++f) {
+    composite(fog, frame_view(cam, cam, f, f > 0, kW, kH), l, shadow, jobs, distance, {});
+    CHECK(fog.stats().density_kept == (f > 0));
+  }
+  // A fresh voxelisation of the same view.
+  FroxelFog fresh(profile(false), scene);
+  composite(fresh, frame_view(cam, cam, 3, false, kW, kH), l, shadow, jobs, distance, {});
+  const FroxelGrid& g = fog.grid();
+  size_t compared = 0, differing = 0;
+  for (size_t c = 0; c < g.columns(); ++c)
+    for (int k = 0; k < fog.view().lit_slices[c]; ++k, ++compared)
+      differing += std::memcmp(&fog.density_volume()[c * g.nz() + size_t(k)],
+                               &fresh.density_volume()[c * g.nz() + size_t(k)], sizeof(FogDensity)) != 0;
+  CHECK(compared > g.count() / 4);
+  CHECK(differing == 0);
+  // A camera move, or geometry that changes the lit froxels, voxelises again.
+  composite(fog, frame_view(moved, cam, 4, true, kW, kH), l, shadow, jobs, distance, {});
+  CHECK_FALSE(fog.stats().density_kept);
+  composite(fog, frame_view(moved, moved, 5, true, kW, kH), l, shadow, jobs, distance, {});
+  CHECK(fog.stats().density_kept);
+  std::vector<float> nearer = distance;
+  for (size_t i = 0; i < nearer.size() / 2; ++i) nearer[i] = 3.0f;
+  composite(fog, frame_view(moved, moved, 6, true, kW, kH), l, shadow, jobs, nearer, {});
+  CHECK_FALSE(fog.stats().density_kept);
 }
 
 TEST_CASE("a fast camera path stays within the ghosting bound") {
