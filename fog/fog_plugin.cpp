@@ -72,6 +72,7 @@ void FogPlugin::report_frame(nlohmann::json& frame) {
   frame["still_frames"] = s.still_frames;
   frame["filtered"] = s.filtered;
   frame["density_kept"] = s.density_kept;
+  frame["jitter_complete"] = s.jitter_complete;
   frame["lighting_frozen"] = s.lighting_frozen;
   frame["volume_kept"] = s.volume_kept;
 }

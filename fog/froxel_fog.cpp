@@ -1,6 +1,7 @@
 #include "fog/froxel_fog.h"
 
 #include <algorithm>
+#include <bit>
 
 namespace cr {
 
@@ -65,14 +66,22 @@ void FroxelFog::lighting(const ShadowMap& shadow, JobSystem& jobs, const ShadowM
   // view keeps their visibility and density.
   still_ = use_history_ && !sun_moved && same_view(view_, history_view_) &&
            view_.lit_slices == history_view_.lit_slices && view_.active_slices == history_view_.active_slices;
-  // After kFreezeFrames still frames the running mean holds the jitter
-  // sequence evenly (to 1/64) and the history from before the still run at
-  // under 5% of its weight: a new sample changes nothing visible, so the
-  // visibility (and the density it was lit with) is kept as it is.
-  frozen_ = still_ && profile_.still_accumulation && still_frames_ >= kFreezeFrames && density_kept_;
+  // A still view's samples repeat with the jitter sequence: once each phase
+  // is in (add_still_sample), their mean is the converged lighting and stands
+  // in for it; reprojection then only fades the history towards it.
+  if (!still_ || !profile_.still_accumulation || lighting_samples_ != 1 || !density_kept_) still_phases_ = 0;
+  stats_.jitter_complete = still_phases_ == kAllPhases;
+  // Once what the history holds besides that mean is under 1/64 of it, a
+  // frame changes nothing visible: the visibility (and the density it was
+  // lit with) is kept as it is.
+  frozen_ = stats_.jitter_complete && fading_share_ < kFreezeShare;
   stats_.lighting_frozen = frozen_;
   if (frozen_) return;
   volume_stale_ = true;
+  if (stats_.jitter_complete) {
+    blended_ = -1;
+    return;
+  }
   const VolumeShadow previous_shadow = light_changed_ ? VolumeShadow(*previous, view_.camera.position) : VolumeShadow();
   // Each job voxelises its rows right before lighting them (in cache).
   const std::function<void(int, int)> voxelize = [this](int y0, int y1) {
@@ -89,6 +98,27 @@ void FroxelFog::lighting(const ShadowMap& shadow, JobSystem& jobs, const ShadowM
                 light_changed_ ? &previous_shadow : nullptr, light_changed_ ? &light_change_ : nullptr);
   density_valid_ = true;
   blended_ = -1;
+  if (still_ && profile_.still_accumulation && lighting_samples_ == 1) add_still_sample(jobs);
+}
+
+void FroxelFog::add_still_sample(JobSystem& jobs) {
+  // Without jitter every frame takes the same sample: one is the mean.
+  const unsigned phase = profile_.jitter ? 1u << (((frame_ % kJitterFrames) + kJitterFrames) % kJitterFrames)
+                                         : kAllPhases;
+  if (still_phases_ & phase) return;
+  const bool first = still_phases_ == 0;
+  still_phases_ |= phase;
+  fading_share_ = 1.0f;  // at most all of the history differs from the mean when it completes
+  const float scale = still_phases_ == kAllPhases ? 1.0f / float(std::popcount(still_phases_)) : 1.0f;
+  const FroxelGrid& g = view_.grid;
+  still_mean_.resize(g.count());
+  jobs.parallel_for("fog.still_mean", g.columns(), 64, [&](size_t begin, size_t end) {
+    for (size_t c = begin; c < end; ++c) {
+      float* sum = still_mean_.data() + c * g.nz();
+      const float* sample = sun_current_.data() + c * g.nz();
+      for (int k = 0; k < view_.lit_slices[c]; ++k) sum[k] = ((first ? 0.0f : sum[k]) + sample[k]) * scale;
+    }
+  });
 }
 
 void FroxelFog::reproject(JobSystem& jobs) {
@@ -101,13 +131,18 @@ void FroxelFog::reproject(JobSystem& jobs) {
   if (!profile_.reprojection || frozen_) return;
   float weight = profile_.history_weight;
   bool clamp = profile_.history_clamp;
-  if (still_ && profile_.still_accumulation) {
+  if (stats_.jitter_complete) {
+    // A constant target: the profile's weight fades the rest geometrically.
+    fading_share_ *= weight;
+    clamp = false;
+  } else if (still_ && profile_.still_accumulation) {
     weight = std::max(weight, float(still_frames_) / float(still_frames_ + 1));
     clamp = false;
   }
   std::vector<float>& out = history_[current_];
   if (use_history_) {
-    stats_.reproject = reproject_history(view_, sun_current_, history_view_, history_[1 - current_], weight, clamp,
+    const std::vector<float>& current = stats_.jitter_complete ? still_mean_ : sun_current_;
+    stats_.reproject = reproject_history(view_, current, history_view_, history_[1 - current_], weight, clamp,
                                          jobs, out, light_changed_ ? &light_change_ : nullptr);
   } else {
     out.swap(sun_current_);  // no history: the blend is the current light (lighting rewrites sun_current_)

@@ -30,6 +30,7 @@ struct FroxelFogStats {
   int still_frames = 0;        // consecutive frames of a still view (same camera and sun) with history
   bool filtered = false;       // the 3x3 filter ran this frame
   bool density_kept = false;     // the same camera and lit froxels: last voxelisation kept
+  bool jitter_complete = false;  // a still view with every jitter phase in: their mean replaces the lighting
   bool lighting_frozen = false;  // a converged still view: lighting and reprojection skipped
   bool volume_kept = false;      // ... and under the same light: integration skipped too
 };
@@ -75,6 +76,8 @@ class FroxelFog {
 
  private:
   const std::vector<float>& blended() const { return blended_ < 0 ? sun_current_ : history_[blended_]; }
+  // Adds this frame's sample to the still run's (once per jitter phase).
+  void add_still_sample(JobSystem& jobs);
 
   FogProfileSettings profile_;
   FogSceneSettings scene_;
@@ -102,8 +105,17 @@ class FroxelFog {
   std::vector<float> scratch_, filtered_;
   bool filtered_now_ = false;  // filtered_ holds this frame's filter output
   static constexpr int kMaxStillFrames = 1 << 16;  // the running mean's weight stops at 65536 / 65537
-  static constexpr int kFreezeFrames = 9 * kJitterFrames;
   int still_frames_ = 0;
+  // The still run's samples, one per jitter phase (lit slices): their sum,
+  // then, once every phase is in (still_phases_ == kAllPhases), their mean.
+  std::vector<float> still_mean_;
+  unsigned still_phases_ = 0;
+  static constexpr unsigned kAllPhases = (1u << kJitterFrames) - 1;
+  // Once the mean is complete: the share of the history that is not the
+  // mean (at most), fading by the history weight each frame; under
+  // kFreezeShare the view is frozen.
+  float fading_share_ = 1.0f;
+  static constexpr float kFreezeShare = 1.0f / 64.0f;
   int blended_ = -1;  // the reprojection's output: history_[blended_], or sun_current_ when -1
   std::vector<IntegratedFroxel> volume_;
   // What volume_ was integrated from: stale once lighting (density and
