@@ -1,7 +1,6 @@
 #include "fog/froxel_fog.h"
 
 #include <algorithm>
-#include <bit>
 
 namespace cr {
 
@@ -107,9 +106,10 @@ void FroxelFog::add_still_sample(JobSystem& jobs) {
                                          : kAllPhases;
   if (still_phases_ & phase) return;
   const bool first = still_phases_ == 0;
+  still_samples_ = first ? 1 : still_samples_ + 1;
   still_phases_ |= phase;
   fading_share_ = 1.0f;  // at most all of the history differs from the mean when it completes
-  const float scale = still_phases_ == kAllPhases ? 1.0f / float(std::popcount(still_phases_)) : 1.0f;
+  const float scale = still_phases_ == kAllPhases ? 1.0f / float(still_samples_) : 1.0f;
   const FroxelGrid& g = view_.grid;
   still_mean_.resize(g.count());
   jobs.parallel_for("fog.still_mean", g.columns(), 64, [&](size_t begin, size_t end) {

@@ -110,6 +110,7 @@ class FroxelFog {
   // then, once every phase is in (still_phases_ == kAllPhases), their mean.
   std::vector<float> still_mean_;
   unsigned still_phases_ = 0;
+  int still_samples_ = 0;  // in the sum (one covers every phase without jitter)
   static constexpr unsigned kAllPhases = (1u << kJitterFrames) - 1;
   // Once the mean is complete: the share of the history that is not the
   // mean (at most), fading by the history weight each frame; under

@@ -155,6 +155,26 @@ TEST_CASE("a converged still view keeps its lighting until the camera, the sun o
   CHECK_FALSE(fog.stats().lighting_frozen);
 }
 
+TEST_CASE("without jitter a still view's one sample is its converged lighting, bit for bit") {
+  JobSystem jobs(2);
+  const Camera cam = camera_at({-6, 3, 20}, {2, 4, -10}, kW, kH);
+  const ShadowMap shadow = wall_shadow(cam, kSun);
+  const LightEnvironment l = light(kSun, 10000.0f, 50.0f);
+  FogProfileSettings still = profile(true), single = profile(false);
+  for (FogProfileSettings* p : {&still, &single}) {
+    p->jitter = false;
+    p->filter = false;
+  }
+  FroxelFog one(single, uniform_fog(0.04f, glm::vec3(0.9f)));
+  const auto expected = composite(one, frame_view(cam, cam, 0, false, kW, kH), l, shadow, jobs, sky_distances(), {});
+  FroxelFog fog(still, uniform_fog(0.04f, glm::vec3(0.9f)));
+  for (int f = 0; f < 12; ++f) {
+    const auto out = composite(fog, frame_view(cam, cam, f, f > 0, kW, kH), l, shadow, jobs, sky_distances(), {});
+    CHECK(fog.stats().jitter_complete == (f >= 2));  // the first still frame's sample covers every phase
+    CHECK(out == expected);
+  }
+}
+
 TEST_CASE("a still view voxelises its density once; the kept density is a fresh voxelisation's bits") {
   JobSystem jobs(2);
   FogSceneSettings scene = uniform_fog(0.03f, glm::vec3(0.9f), 0.4f);
