@@ -5,7 +5,10 @@
 // run in order: begin_frame, density, lighting, reproject, filter, integrate,
 // then composite (any pixel rectangles, concurrently). density plans the
 // voxelisation (volume footprints); lighting writes the density of each row
-// of columns right before it lights the row, so the row is read from cache.
+// of columns right before it lights the row, so the row is read from cache
+// (a view seen last frame keeps its density, and the lighting prefetches
+// the row). A still view lights until its jitter sequence is complete, then
+// fades its history to the sequence's mean and freezes (see lighting()).
 #include <vector>
 
 #include "engine/core/job_system.h"
