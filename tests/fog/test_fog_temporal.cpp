@@ -4,6 +4,8 @@
 #include <doctest/doctest.h>
 
 #include <array>
+#include <cmath>
+#include <random>
 #include <cstring>
 #include <utility>
 
@@ -218,6 +220,66 @@ TEST_CASE("a still view voxelises its density once; the kept density is a fresh 
   for (size_t i = 0; i < nearer.size() / 2; ++i) nearer[i] = 3.0f;
   composite(fog, frame_view(moved, moved, 6, true, kW, kH), l, shadow, jobs, nearer, {});
   CHECK_FALSE(fog.stats().density_kept);
+}
+
+TEST_CASE("whatever came before, a still view settles on the same frame") {
+  JobSystem jobs(2);
+  const Camera home = camera_at({-6, 3, 20}, {2, 4, -10}, kW, kH);
+  const ShadowMap home_shadow = wall_shadow(home, kSun);
+  const LightEnvironment l = light(kSun, 10000.0f, 50.0f);
+  constexpr int kSettle = 40;  // frozen by then (the jitter sequence, then 27 frames of fading)
+  FroxelFog fresh(profile(true), uniform_fog(0.04f, glm::vec3(0.9f)));
+  std::vector<glm::vec3> settled;
+  for (int f = 0; f < kSettle; ++f)
+    settled = composite(fresh, frame_view(home, home, f, f > 0, kW, kH), l, home_shadow, jobs, sky_distances(), {});
+  REQUIRE(fresh.stats().lighting_frozen);
+  const std::vector<float> sky = sky_distances();
+  std::vector<float> wall = sky;
+  std::fill(wall.begin(), wall.begin() + wall.size() / 3, 5.0f);
+  for (unsigned seed = 1; seed <= 3; ++seed) {
+    CAPTURE(seed);
+    // Random events (moves, other suns, light, geometry, history resets,
+    // supersampled frames), each held for 1-12 frames, so that some become
+    // still runs of their own; then the still view again.
+    std::mt19937 rng(seed);
+    std::uniform_int_distribution<int> event(0, 5), length(1, 12), side(0, 1);
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    const glm::vec3 other_suns[2] = {glm::normalize(kSun + glm::vec3(0.3f, 0.1f, 0.0f)),
+                                     glm::normalize(kSun + glm::vec3(-0.3f, -0.1f, 0.1f))};
+    FroxelFog fog(profile(true), uniform_fog(0.04f, glm::vec3(0.9f)));
+    Camera prev = home;
+    int f = 0;
+    for (int e = 0; e < 12; ++e) {
+      Camera cam = home;
+      glm::vec3 sun = kSun;
+      LightEnvironment lit = l;
+      const std::vector<float>* distance = &sky;
+      const int kind = event(rng);
+      fog.set_lighting_samples(kind == 5 ? 3 : 1);
+      if (kind == 0) cam = camera_at({-6 + 4 * unit(rng), 3 + unit(rng), 20 + 4 * unit(rng)}, {2, 4, -10}, kW, kH);
+      if (kind == 1) sun = other_suns[side(rng)];
+      if (kind == 1) lit = light(sun, 10000.0f, 50.0f);
+      if (kind == 2) distance = &wall;
+      if (kind == 3) lit = light(kSun, 10000.0f * float(1.5 + unit(rng)), 50.0f);
+      const ShadowMap shadow = wall_shadow(cam, sun);
+      for (int n = length(rng); n > 0; --n, ++f) {
+        if (kind == 4 && n % 3 == 0) fog.reset_history();
+        const auto out = composite(fog, frame_view(cam, prev, f, true, kW, kH), lit, shadow, jobs, *distance, {});
+        for (const glm::vec3& c : out) REQUIRE(std::isfinite(c.x + c.y + c.z));
+        prev = cam;
+      }
+    }
+    fog.set_lighting_samples(1);
+    std::vector<glm::vec3> out;
+    for (int i = 0; i < kSettle; ++i, ++f) {
+      out = composite(fog, frame_view(home, prev, f, true, kW, kH), l, home_shadow, jobs, sky_distances(), {});
+      prev = home;
+    }
+    CHECK(fog.stats().lighting_frozen);
+    const double difference = mean_relative_error(settled, out);
+    MESSAGE("seed " << seed << ": settled frame against a fresh start's: " << difference);
+    CHECK(difference < 0.002);
+  }
 }
 
 TEST_CASE("a fast camera path stays within the ghosting bound") {
