@@ -81,6 +81,23 @@ inline FogSceneSettings uniform_fog(float extinction, const glm::vec3& albedo, f
   return s;
 }
 
+// Height fog (up to 20 m) and one noisy box volume in front of the cameras
+// at (x, 2, 10) looking down -z: a density with structure along and across
+// the columns.
+inline FogSceneSettings noisy_volume_fog() {
+  FogSceneSettings s = uniform_fog(0.03f, glm::vec3(0.9f), 0.4f);
+  s.base_height = 0.0f;
+  s.max_height = 20.0f;
+  FogVolume v;
+  v.center = {0, 2, -15};
+  v.half_size = {4, 3, 5};
+  v.extinction = 0.5f;
+  v.fade = 1.0f;
+  v.noise.enabled = true;
+  s.volumes.push_back(v);
+  return s;
+}
+
 // Renders the froxel volume for one frame (depth-culled by the same per-pixel
 // distances, as the plugin does, unless `cull` is false) and composites it
 // over `base` colour. previous_shadow: last frame's map, as the renderer gives it.

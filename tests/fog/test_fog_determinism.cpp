@@ -9,16 +9,7 @@ using namespace cr::fog_test;
 
 TEST_CASE("froxel fog is bit-identical for 1, 2 and 3 threads") {
   const int w = 80, h = 48;
-  FogSceneSettings s = uniform_fog(0.03f, glm::vec3(0.9f), 0.4f);
-  s.base_height = 0.0f;
-  s.max_height = 20.0f;
-  FogVolume v;
-  v.center = {0, 2, -15};
-  v.half_size = {4, 3, 5};
-  v.extinction = 0.5f;
-  v.fade = 1.0f;
-  v.noise.enabled = true;
-  s.volumes.push_back(v);
+  const FogSceneSettings s = noisy_volume_fog();
   const glm::vec3 sun(0.6f, 0.4f, 0.3f);
   std::vector<std::vector<IntegratedFroxel>> volumes;
   std::vector<std::vector<glm::vec3>> images;

@@ -179,16 +179,7 @@ TEST_CASE("without jitter a still view's one sample is its converged lighting, b
 
 TEST_CASE("a still view voxelises its density once; the kept density is a fresh voxelisation's bits") {
   JobSystem jobs(2);
-  FogSceneSettings scene = uniform_fog(0.03f, glm::vec3(0.9f), 0.4f);
-  scene.base_height = 0.0f;
-  scene.max_height = 20.0f;
-  FogVolume v;
-  v.center = {0, 2, -15};
-  v.half_size = {4, 3, 5};
-  v.extinction = 0.5f;
-  v.fade = 1.0f;
-  v.noise.enabled = true;
-  scene.volumes.push_back(v);
+  const FogSceneSettings scene = noisy_volume_fog();
   const Camera cam = camera_at({-3, 2, 10}, {0, 2, -10}, kW, kH);
   const Camera moved = camera_at({-3, 2, 10.01}, {0, 2, -10}, kW, kH);
   const ShadowMap shadow = wall_shadow(cam, kSun);
