@@ -37,6 +37,9 @@ int fog_bench_command(const std::vector<std::string>& args, const PluginRegistry
   constexpr int kRows = 7;
   double median[2][kRows];
   size_t lit = 0, count = 0;
+  // Of the measured frames (the last run's): lit, with a still view's
+  // jitter-sequence mean instead of lighting, frozen.
+  int lit_frames = 0, mean_frames = 0, frozen_frames = 0;
   const unsigned counts[2] = {1u, all};
   for (int c = 0; c < 2; ++c) {
     JobSystem jobs(counts[c]);
@@ -48,6 +51,12 @@ int fog_bench_command(const std::vector<std::string>& args, const PluginRegistry
       FroxelTimes t;
       froxel_frame(fog, base.frame_view(f), base, jobs, &t);
       if (f < 2) continue;
+      const FroxelFogStats& st = fog.stats();
+      if (c == 1) {
+        frozen_frames += st.lighting_frozen;
+        mean_frames += st.jitter_complete && !st.lighting_frozen;
+        lit_frames += !st.jitter_complete;
+      }
       const double row[kRows] = {t.density, t.lighting, t.reproject, t.filter, t.integrate, t.passes(), t.composite};
       for (int r = 0; r < kRows; ++r) ms[r].push_back(row[r]);
     }
@@ -58,6 +67,8 @@ int fog_bench_command(const std::vector<std::string>& args, const PluginRegistry
   for (int r = 0; r < kRows; ++r) std::printf("%-18s %12.2f %12.2f\n", names[r], median[0][r], median[1][r]);
   std::printf("lit froxels after depth culling: %zu of %zu (%.0f%%)\n", lit, count,
               count ? 100.0 * double(lit) / double(count) : 0.0);
+  std::printf("measured frames: %d lit, %d with the still view's jitter mean, %d frozen\n", lit_frames, mean_frames,
+              frozen_frames);
   return 0;
 }
 
