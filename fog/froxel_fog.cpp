@@ -59,16 +59,16 @@ void FroxelFog::lighting(const ShadowMap& shadow, JobSystem& jobs, const ShadowM
   const bool sun_moved = sun != history_sun_;
   history_sun_ = sun;
   stats_.light_changed = light_changed_;
-  // A still view: the history was lit by the same camera and sun, so its
-  // samples differ from this frame's only by the jitter.
-  // The same froxels are lit and active too (static geometry): a frozen
-  // view keeps their visibility and density.
+  // A still view: the history was lit by the same camera and sun, over the
+  // same lit and active froxels (static geometry), so its samples differ
+  // from this frame's only by the jitter.
   still_ = use_history_ && !sun_moved && same_view(view_, history_view_) &&
            view_.lit_slices == history_view_.lit_slices && view_.active_slices == history_view_.active_slices;
   // A still view's samples repeat with the jitter sequence: once each phase
   // is in (add_still_sample), their mean is the converged lighting and stands
   // in for it; reprojection then only fades the history towards it.
-  if (!still_ || !profile_.still_accumulation || lighting_samples_ != 1 || !density_kept_) still_phases_ = 0;
+  const bool accumulating = still_ && profile_.still_accumulation && lighting_samples_ == 1 && density_kept_;
+  if (!accumulating) still_phases_ = 0;
   stats_.jitter_complete = still_phases_ == kAllPhases;
   // Once what the history holds besides that mean is under 1/64 of it, a
   // frame changes nothing visible: the visibility (and the density it was
@@ -97,7 +97,7 @@ void FroxelFog::lighting(const ShadowMap& shadow, JobSystem& jobs, const ShadowM
                 light_changed_ ? &previous_shadow : nullptr, light_changed_ ? &light_change_ : nullptr);
   density_valid_ = true;
   blended_ = -1;
-  if (still_ && profile_.still_accumulation && lighting_samples_ == 1) add_still_sample(jobs);
+  if (accumulating) add_still_sample(jobs);
 }
 
 void FroxelFog::add_still_sample(JobSystem& jobs) {

@@ -31,6 +31,13 @@ FogProfileSettings profile(bool reprojection, bool clamp = true, bool light_chan
 
 std::vector<float> sky_distances() { return std::vector<float>(size_t(kW) * kH, INFINITY); }
 
+// The still views' camera, its shadow map and light.
+struct StillView {
+  Camera cam = camera_at({-6, 3, 20}, {2, 4, -10}, kW, kH);
+  ShadowMap shadow = wall_shadow(cam, kSun);
+  LightEnvironment light = cr::fog_test::light(kSun, 10000.0f, 50.0f);
+};
+
 // The composite of one frame with all seven jitter samples averaged and no history.
 std::vector<glm::vec3> many_sample(const FrameView& view, const LightEnvironment& l, const ShadowMap& shadow,
                                    JobSystem& jobs, bool filter = true) {
@@ -54,9 +61,7 @@ void raise_worst(const std::vector<glm::vec3>& reference, const std::array<const
 
 TEST_CASE("reprojection of a static view converges to the non-temporal many-sample result") {
   JobSystem jobs(2);
-  const Camera cam = camera_at({-6, 3, 20}, {2, 4, -10}, kW, kH);
-  const ShadowMap shadow = wall_shadow(cam, kSun);
-  const LightEnvironment l = light(kSun, 10000.0f, 50.0f);
+  const auto [cam, shadow, l] = StillView{};
   double converged[2] = {0.0, 0.0};
   for (bool accumulate : {false, true}) {
     CAPTURE(accumulate);
@@ -94,10 +99,8 @@ TEST_CASE("reprojection of a static view converges to the non-temporal many-samp
 
 TEST_CASE("a converged still view keeps its lighting until the camera, the sun or the geometry moves") {
   JobSystem jobs(2);
-  const Camera cam = camera_at({-6, 3, 20}, {2, 4, -10}, kW, kH);
+  const auto [cam, shadow, l] = StillView{};
   const Camera moved = camera_at({-6, 3, 20.01}, {2, 4, -10}, kW, kH);
-  const ShadowMap shadow = wall_shadow(cam, kSun);
-  const LightEnvironment l = light(kSun, 10000.0f, 50.0f);
   const std::vector<glm::vec3> reference =
       many_sample(frame_view(cam, cam, 0, false, kW, kH), l, shadow, jobs, /*filter=*/false);
   FroxelFog fog(profile(true), uniform_fog(0.04f, glm::vec3(0.9f)));
@@ -159,9 +162,7 @@ TEST_CASE("a converged still view keeps its lighting until the camera, the sun o
 
 TEST_CASE("without jitter a still view's one sample is its converged lighting, bit for bit") {
   JobSystem jobs(2);
-  const Camera cam = camera_at({-6, 3, 20}, {2, 4, -10}, kW, kH);
-  const ShadowMap shadow = wall_shadow(cam, kSun);
-  const LightEnvironment l = light(kSun, 10000.0f, 50.0f);
+  const auto [cam, shadow, l] = StillView{};
   FogProfileSettings still = profile(true), single = profile(false);
   for (FogProfileSettings* p : {&still, &single}) {
     p->jitter = false;
@@ -215,9 +216,7 @@ TEST_CASE("a still view voxelises its density once; the kept density is a fresh 
 
 TEST_CASE("whatever came before, a still view settles on the same frame") {
   JobSystem jobs(2);
-  const Camera home = camera_at({-6, 3, 20}, {2, 4, -10}, kW, kH);
-  const ShadowMap home_shadow = wall_shadow(home, kSun);
-  const LightEnvironment l = light(kSun, 10000.0f, 50.0f);
+  const auto [home, home_shadow, l] = StillView{};
   constexpr int kSettle = 40;  // frozen by then (the jitter sequence, then 27 frames of fading)
   FroxelFog fresh(profile(true), uniform_fog(0.04f, glm::vec3(0.9f)));
   std::vector<glm::vec3> settled;
@@ -338,9 +337,7 @@ TEST_CASE("a moving light shaft ghosts within the bound") {
 
 TEST_CASE("a previous shadow map under the same sun changes nothing") {
   JobSystem jobs(2);
-  const Camera cam = camera_at({-6, 3, 20}, {2, 4, -10}, kW, kH);
-  const LightEnvironment l = light(kSun, 10000.0f, 50.0f);
-  const ShadowMap shadow = wall_shadow(cam, kSun);
+  const auto [cam, shadow, l] = StillView{};
   ShadowMap refit = wall_shadow(cam, kSun, 30.0f);  // re-rendered, same light: the camera moved
   const FogSceneSettings medium = uniform_fog(0.04f, glm::vec3(0.9f));
   FroxelFog with(profile(true), medium), without(profile(true), medium);
