@@ -67,6 +67,7 @@ void FogPlugin::report_frame(nlohmann::json& frame) {
   frame["lit_froxels"] = s.lit_froxels;
   frame["active_froxels"] = s.active_froxels;
   frame["history_used"] = s.history_used;
+  frame["history_read_froxels"] = s.reproject.reads;
   frame["history_rejected_froxels"] = s.reproject.rejected;
   frame["light_changed"] = s.light_changed;
   frame["still_frames"] = s.still_frames;

@@ -125,7 +125,8 @@ bool same_view(const FroxelView& a, const FroxelView& b);
 // measure misses most of a froxel, its neighbours' see the edge coming).
 struct ReprojectStats {
   bool identity = false;       // same camera: history read in place
-  size_t rejected = 0;         // froxels without history
+  size_t reads = 0;            // froxels whose history was looked up (with the clamp, those whose range is not one value)
+  size_t rejected = 0;         // of those, the ones without history
 };
 ReprojectStats reproject_history(const FroxelView& view, const std::vector<float>& current,
                                  const FroxelView& history_view, const std::vector<float>& history,

@@ -20,6 +20,12 @@
 // its vertical neighbours is computed once into a rotating set of three,
 // and a froxel's range combines those of its column and the two beside it
 // (6 reads per slice instead of 9 read-modify-writes of running bounds).
+//
+// With the clamp, a froxel whose 3x3 range is one value (the current froxel
+// and its lit neighbours agree: fully lit or fully shadowed air, 95% of a
+// moving valley's froxels) blends to exactly its current value, whatever
+// its history: a moving camera projects and reads history only for the
+// others.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -92,7 +98,7 @@ ReprojectStats reproject_history(const FroxelView& view, const std::vector<float
   const int nx = g.nx(), ny = g.ny(), nz = g.nz();
   std::vector<float> centers(static_cast<size_t>(nz));
   for (int k = 0; k < nz; ++k) centers[size_t(k)] = g.center(k);
-  std::vector<size_t> rejected_per_row(size_t(ny), 0);
+  std::vector<size_t> rejected_per_row(size_t(ny), 0), reads_per_row(size_t(ny), 0);
   // Per column the slices are contiguous floats, so the clamp and blend run
   // as flat loops the compiler vectorises.
   const float* cur_all = current.data();
@@ -104,6 +110,12 @@ ReprojectStats reproject_history(const FroxelView& view, const std::vector<float
     // Clamp range of three neighbouring columns, rotated along the row.
     std::vector<float> range_lo(3 * static_cast<size_t>(nz)), range_hi(3 * static_cast<size_t>(nz));
     HistoryProjection::Scratch scratch(nz);
+    // The froxel's clamp range per slice, and a moving camera's slices whose
+    // range is not one value: their centres, current values and history.
+    std::vector<float> lo_j(static_cast<size_t>(nz)), hi_j(static_cast<size_t>(nz));
+    std::vector<int> open(static_cast<size_t>(nz));
+    std::vector<float> open_t(static_cast<size_t>(nz)), open_cur(static_cast<size_t>(nz)),
+        open_h(static_cast<size_t>(nz));
     // Light change of three neighbouring columns (vertical maxima), rotated the same way.
     std::vector<float> change_max(light_change ? 3 * static_cast<size_t>(nz) : 0);
     for (int y = int(begin); y < int(end); ++y) {
@@ -139,27 +151,6 @@ ReprojectStats reproject_history(const FroxelView& view, const std::vector<float
         float* dst = out_all + base;
         // History per slice; where there is none it takes the current value,
         // which the clamp keeps and the blend returns unchanged.
-        size_t rejected = 0;
-        // The history of the slices: read in place for the same camera (the
-        // slices it lacks take the current value), else gathered into h.
-        const float* hist = h.data();
-        if (stats.identity) {
-          const int m = std::min(n, int(history_view.lit_slices[c]));
-          if (m < n) {
-            std::copy(hist_all + base, hist_all + base + size_t(m), h.data());
-            std::copy(cur + m, cur + n, h.data() + m);
-          } else {
-            hist = hist_all + base;
-          }
-          rejected = size_t(n - m);
-        } else {
-          const glm::vec3 d = view.directions[c];
-          const glm::vec3 dv(glm::dot(d, hc.right), glm::dot(d, hc.up), glm::dot(d, hc.forward));
-          projection->project(offset, dv, centers.data(), n, scratch.fx.data(), scratch.fy.data(),
-                             scratch.fz.data(), scratch.inside.data());
-          rejected = projection->read(scratch, cur, n, h.data());
-        }
-        rejected_per_row[size_t(y)] += rejected;
         const size_t len = size_t(n);
         if (clamp) {
           // Clamp the history to the range of the current frame's 3x3
@@ -175,9 +166,63 @@ ReprojectStats reproject_history(const FroxelView& view, const std::vector<float
           const float* lo = range_lo.data();
           const float* hi = range_hi.data();
           for (size_t j = 0; j < len; ++j) {
-            const float l = std::min(std::min(lo[left + j], lo[mid + j]), lo[right + j]);
-            const float u = std::max(std::max(hi[left + j], hi[mid + j]), hi[right + j]);
-            const float clamped = std::min(std::max(hist[j], l), u);
+            lo_j[j] = std::min(std::min(lo[left + j], lo[mid + j]), lo[right + j]);
+            hi_j[j] = std::max(std::max(hi[left + j], hi[mid + j]), hi[right + j]);
+          }
+        }
+        size_t rejected = 0;
+        // The history of the slices: read in place for the same camera (the
+        // slices it lacks take the current value), else gathered into h.
+        const float* hist = h.data();
+        if (stats.identity) {
+          const int m = std::min(n, int(history_view.lit_slices[c]));
+          if (m < n) {
+            std::copy(hist_all + base, hist_all + base + size_t(m), h.data());
+            std::copy(cur + m, cur + n, h.data() + m);
+          } else {
+            hist = hist_all + base;
+          }
+          rejected = size_t(n - m);
+          reads_per_row[size_t(y)] += size_t(m);
+        } else {
+          const glm::vec3 d = view.directions[c];
+          const glm::vec3 dv(glm::dot(d, hc.right), glm::dot(d, hc.up), glm::dot(d, hc.forward));
+          if (clamp) {
+            // Only the slices whose range is not one value read history; the
+            // others keep the current value, which the clamp would give.
+            // Blocks of 8 slices where all agree (most) are passed over whole.
+            int m = 0;
+            for (int j0 = 0; j0 < n; j0 += 8) {
+              const int e = std::min(j0 + 8, n);
+              int differ = 0;
+              for (int j = j0; j < e; ++j) differ |= int(lo_j[size_t(j)] != hi_j[size_t(j)]);
+              if (!differ) continue;
+              for (int j = j0; j < e; ++j) {
+                open[size_t(m)] = j;
+                m += lo_j[size_t(j)] != hi_j[size_t(j)];
+              }
+            }
+            for (int i = 0; i < m; ++i) {
+              open_t[size_t(i)] = centers[size_t(open[size_t(i)])];
+              open_cur[size_t(i)] = cur[open[size_t(i)]];
+            }
+            projection->project(offset, dv, open_t.data(), m, scratch.fx.data(), scratch.fy.data(),
+                               scratch.fz.data(), scratch.inside.data());
+            rejected = projection->read(scratch, open_cur.data(), m, open_h.data());
+            std::copy(cur, cur + n, h.data());
+            for (int i = 0; i < m; ++i) h[size_t(open[size_t(i)])] = open_h[size_t(i)];
+            reads_per_row[size_t(y)] += size_t(m);
+          } else {
+            projection->project(offset, dv, centers.data(), n, scratch.fx.data(), scratch.fy.data(),
+                               scratch.fz.data(), scratch.inside.data());
+            rejected = projection->read(scratch, cur, n, h.data());
+            reads_per_row[size_t(y)] += len;
+          }
+        }
+        rejected_per_row[size_t(y)] += rejected;
+        if (clamp) {
+          for (size_t j = 0; j < len; ++j) {
+            const float clamped = std::min(std::max(hist[j], lo_j[j]), hi_j[j]);
             dst[j] = cur[j] + (clamped - cur[j]) * w;
           }
         } else {
@@ -198,6 +243,7 @@ ReprojectStats reproject_history(const FroxelView& view, const std::vector<float
     }
   });
   for (size_t r : rejected_per_row) stats.rejected += r;
+  for (size_t r : reads_per_row) stats.reads += r;
   return stats;
 }
 

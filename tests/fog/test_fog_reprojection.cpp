@@ -3,8 +3,10 @@
 // 3x3 columns around (clamped at the grid's edges), in the same slice, over
 // the neighbours lit there, then blended; same bits, with depth culling
 // cutting columns at random lengths (also at the grid's edges). And for a
-// moving camera, no trilinear read touches a slice the history culled, and
-// the history read's eight-lane path gives its one-slice definition's bits.
+// moving camera, no trilinear read touches a slice the history culled, the
+// history read's eight-lane path gives its one-slice definition's bits, and
+// the clamped blend reads history only where the clamp range is not one
+// value, with the bits of reading it everywhere.
 #include <doctest/doctest.h>
 
 #include <cstring>
@@ -148,5 +150,74 @@ TEST_CASE("the moving-camera history read gives its one-slice definition's bits"
     }
     CHECK(last_slice > 0);
     CHECK(compared > 1000);  // many reads that take history, not only rejections
+  }
+}
+
+TEST_CASE("a moving camera's clamped reprojection reads history only where the 3x3 range is not one value") {
+  for (unsigned seed = 1; seed <= 4; ++seed) {
+    ClampCase c = random_case(seed);
+    const FroxelGrid& g = c.view.grid;
+    FroxelView history_view = c.view;
+    history_view.camera = Camera::look_at({0.4, 2.2, 5.6}, {1.5, 1, -10}, 1.0f, 72.0f / 40.0f, 0.1f);
+    std::mt19937 rng(seed + 400);
+    std::uniform_int_distribution<int> slices(0, g.nz()), coin(0, 59);
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+    for (auto& n : history_view.lit_slices) n = uint16_t(slices(rng));
+    for (auto& v : c.history) v = unit(rng);
+    // Blocks of lit (1) and shadowed (0) air with scattered values between,
+    // as shafts give: most 3x3 ranges are one value, some are not.
+    for (int y = 0; y < g.ny(); ++y)
+      for (int x = 0; x < g.nx(); ++x)
+        for (int k = 0; k < g.nz(); ++k)
+          c.current[g.index(x, y, k)] = coin(rng) == 0 ? unit(rng) : float((x / 6 + y / 5 + k / 7) % 2);
+    const float w = 0.857142857f;
+    JobSystem jobs(2);
+    std::vector<float> out;
+    const ReprojectStats stats = reproject_history(c.view, c.current, history_view, c.history, w, true, jobs, out);
+    REQUIRE_FALSE(stats.identity);
+    // The definition: every lit froxel's history projected and read, clamped
+    // to its 3x3 range, blended.
+    const HistoryProjection projection(history_view, c.history);
+    HistoryProjection::Scratch scratch(g.nz());
+    const Camera& hc = history_view.camera;
+    const glm::vec3 offset_world(c.view.camera.position - hc.position);
+    const glm::vec3 offset(glm::dot(offset_world, hc.right), glm::dot(offset_world, hc.up),
+                           glm::dot(offset_world, hc.forward));
+    std::vector<float> centers(size_t(g.nz())), h(size_t(g.nz()));
+    for (int k = 0; k < g.nz(); ++k) centers[size_t(k)] = g.center(k);
+    size_t lit = 0, mismatches = 0, rejected = 0;
+    for (int y = 0; y < g.ny(); ++y)
+      for (int x = 0; x < g.nx(); ++x) {
+        const size_t col = size_t(y) * g.nx() + x;
+        const int n = c.view.lit_slices[col];
+        const glm::vec3 d = c.view.directions[col];
+        const glm::vec3 dv(glm::dot(d, hc.right), glm::dot(d, hc.up), glm::dot(d, hc.forward));
+        projection.project(offset, dv, centers.data(), n, scratch.fx.data(), scratch.fy.data(), scratch.fz.data(),
+                           scratch.inside.data());
+        const float* cur = c.current.data() + g.index(x, y, 0);
+        for (int j = 0; j < n; ++j) {
+          const size_t no_history = projection.read_slices(scratch, cur, j, j + 1, h.data());
+          float lo = cur[j], hi = cur[j];
+          for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx) {
+              const int xn = std::clamp(x + dx, 0, g.nx() - 1), yn = std::clamp(y + dy, 0, g.ny() - 1);
+              if (j >= c.view.lit_slices[size_t(yn) * g.nx() + xn]) continue;
+              lo = std::min(lo, c.current[g.index(xn, yn, j)]);
+              hi = std::max(hi, c.current[g.index(xn, yn, j)]);
+            }
+          // Where the range is one value the history is not needed: its
+          // rejection is not counted.
+          if (lo != hi) rejected += no_history;
+          const float expected = cur[j] + (std::min(std::max(h[size_t(j)], lo), hi) - cur[j]) * w;
+          mismatches += std::memcmp(&expected, &out[g.index(x, y, j)], sizeof(float)) != 0;
+        }
+        lit += size_t(n);
+      }
+    CHECK(mismatches == 0);
+    // Most froxels' ranges are one value: their history is never looked up.
+    CHECK(stats.reads > lit / 10);
+    CHECK(stats.reads < lit / 2);
+    CHECK(stats.rejected == rejected);
+    CHECK(rejected > 0);
   }
 }
