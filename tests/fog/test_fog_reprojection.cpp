@@ -41,6 +41,30 @@ ClampCase random_case(unsigned seed) {
   return c;
 }
 
+// The case's view from a moved camera, with its columns culled at random lengths.
+FroxelView moved_history_view(const ClampCase& c, std::mt19937& rng) {
+  FroxelView history_view = c.view;
+  history_view.camera = Camera::look_at({0.4, 2.2, 5.6}, {1.5, 1, -10}, 1.0f, 72.0f / 40.0f, 0.1f);
+  std::uniform_int_distribution<int> slices(0, c.view.grid.nz());
+  for (auto& n : history_view.lit_slices) n = uint16_t(slices(rng));
+  return history_view;
+}
+
+// The clamp's definition: the min and max of the current values in the 3x3
+// columns around (x, y) (clamped at the grid's edges) in slice j, over the
+// neighbours lit there; the froxel itself is lit.
+void range_3x3(const ClampCase& c, int x, int y, int j, float& lo, float& hi) {
+  const FroxelGrid& g = c.view.grid;
+  lo = hi = c.current[g.index(x, y, j)];
+  for (int dy = -1; dy <= 1; ++dy)
+    for (int dx = -1; dx <= 1; ++dx) {
+      const int xn = std::clamp(x + dx, 0, g.nx() - 1), yn = std::clamp(y + dy, 0, g.ny() - 1);
+      if (j >= c.view.lit_slices[size_t(yn) * g.nx() + xn]) continue;
+      lo = std::min(lo, c.current[g.index(xn, yn, j)]);
+      hi = std::max(hi, c.current[g.index(xn, yn, j)]);
+    }
+}
+
 }  // namespace
 
 TEST_CASE("the reprojection clamp matches the per-froxel 3x3 definition bit for bit") {
@@ -66,14 +90,8 @@ TEST_CASE("the reprojection clamp matches the per-froxel 3x3 definition bit for 
         for (int j = 0; j < c.view.lit_slices[col]; ++j) {
           const float cur = c.current[g.index(x, y, j)];
           const float hist = j < history_view.lit_slices[col] ? c.history[g.index(x, y, j)] : cur;
-          float lo = cur, hi = cur;
-          for (int dy = -1; dy <= 1; ++dy)
-            for (int dx = -1; dx <= 1; ++dx) {
-              const int xn = std::clamp(x + dx, 0, g.nx() - 1), yn = std::clamp(y + dy, 0, g.ny() - 1);
-              if (j >= c.view.lit_slices[size_t(yn) * g.nx() + xn]) continue;
-              lo = std::min(lo, c.current[g.index(xn, yn, j)]);
-              hi = std::max(hi, c.current[g.index(xn, yn, j)]);
-            }
+          float lo, hi;
+          range_3x3(c, x, y, j, lo, hi);
           const float expected = cur + (std::min(std::max(hist, lo), hi) - cur) * w;
           mismatches += std::memcmp(&expected, &out[g.index(x, y, j)], sizeof(float)) != 0;
         }
@@ -86,12 +104,9 @@ TEST_CASE("a moving camera's history reads never touch a slice the history culle
   for (unsigned seed = 1; seed <= 4; ++seed) {
     ClampCase c = random_case(seed);
     const FroxelGrid& g = c.view.grid;
-    FroxelView history_view = c.view;
-    history_view.camera = Camera::look_at({0.4, 2.2, 5.6}, {1.5, 1, -10}, 1.0f, 72.0f / 40.0f, 0.1f);
     std::mt19937 rng(seed + 200);
-    std::uniform_int_distribution<int> slices(0, g.nz());
+    const FroxelView history_view = moved_history_view(c, rng);
     std::uniform_real_distribution<float> unit(0.0f, 1.0f);
-    for (auto& n : history_view.lit_slices) n = uint16_t(slices(rng));
     // Lit history in [0, 1], culled slices far outside: with no current
     // light, full weight and no clamp the output is the history read itself.
     for (int y = 0; y < g.ny(); ++y)
@@ -157,12 +172,10 @@ TEST_CASE("a moving camera's clamped reprojection reads history only where the 3
   for (unsigned seed = 1; seed <= 4; ++seed) {
     ClampCase c = random_case(seed);
     const FroxelGrid& g = c.view.grid;
-    FroxelView history_view = c.view;
-    history_view.camera = Camera::look_at({0.4, 2.2, 5.6}, {1.5, 1, -10}, 1.0f, 72.0f / 40.0f, 0.1f);
     std::mt19937 rng(seed + 400);
-    std::uniform_int_distribution<int> slices(0, g.nz()), coin(0, 59);
+    const FroxelView history_view = moved_history_view(c, rng);
+    std::uniform_int_distribution<int> coin(0, 59);
     std::uniform_real_distribution<float> unit(0.0f, 1.0f);
-    for (auto& n : history_view.lit_slices) n = uint16_t(slices(rng));
     for (auto& v : c.history) v = unit(rng);
     // Blocks of lit (1) and shadowed (0) air with scattered values between,
     // as shafts give: most 3x3 ranges are one value, some are not.
@@ -197,14 +210,8 @@ TEST_CASE("a moving camera's clamped reprojection reads history only where the 3
         const float* cur = c.current.data() + g.index(x, y, 0);
         for (int j = 0; j < n; ++j) {
           const size_t no_history = projection.read_slices(scratch, cur, j, j + 1, h.data());
-          float lo = cur[j], hi = cur[j];
-          for (int dy = -1; dy <= 1; ++dy)
-            for (int dx = -1; dx <= 1; ++dx) {
-              const int xn = std::clamp(x + dx, 0, g.nx() - 1), yn = std::clamp(y + dy, 0, g.ny() - 1);
-              if (j >= c.view.lit_slices[size_t(yn) * g.nx() + xn]) continue;
-              lo = std::min(lo, c.current[g.index(xn, yn, j)]);
-              hi = std::max(hi, c.current[g.index(xn, yn, j)]);
-            }
+          float lo, hi;
+          range_3x3(c, x, y, j, lo, hi);
           // Where the range is one value the history is not needed: its
           // rejection is not counted.
           if (lo != hi) rejected += no_history;
