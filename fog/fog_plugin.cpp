@@ -76,6 +76,7 @@ void FogPlugin::report_frame(nlohmann::json& frame) {
   frame["jitter_complete"] = s.jitter_complete;
   frame["lighting_frozen"] = s.lighting_frozen;
   frame["volume_kept"] = s.volume_kept;
+  frame["integrated_froxels"] = s.integrated_froxels;
 }
 
 }  // namespace cr

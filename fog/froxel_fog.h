@@ -36,7 +36,12 @@ struct FroxelFogStats {
   bool jitter_complete = false;  // a still view with every jitter phase in: their mean replaces the lighting
   bool lighting_frozen = false;  // a converged still view: lighting and reprojection skipped
   bool volume_kept = false;      // ... and under the same light: integration skipped too
+  size_t integrated_froxels = 0;  // froxels integration produced (a still view keeps the unchanged ones)
 };
+
+// The lighting integration applies: the scene's phase function, the light
+// environment's sun and sky ambient, relative to the camera.
+MediumLighting medium_lighting(const FogSceneSettings& scene, const LightEnvironment& light, const Camera& camera);
 
 class FroxelFog {
  public:
@@ -127,6 +132,13 @@ class FroxelFog {
   bool volume_stale_ = true;
   MediumLighting integrated_light_;
   std::vector<glm::vec3> integrated_knots_;
+  // For incremental integration in still views: the visibility volume_ was
+  // integrated from (when saved) and the view and voxelisation it was for.
+  std::vector<float> integrated_visibility_;
+  bool visibility_saved_ = false;
+  FroxelView integrated_view_;
+  unsigned density_generation_ = 0;  // counts voxelisations
+  unsigned integrated_density_ = 0;  // the generation volume_ was integrated with
   FroxelFogStats stats_;
 };
 

@@ -169,9 +169,22 @@ std::vector<glm::vec3> sun_knots(const FroxelView& view, const MediumLighting& l
 // fog.integrate: front-to-back per column over its active slices. The phase
 // function and the sun's illuminance (lerped between the knots) are applied
 // here at the column's centre direction (never jittered, never reprojected).
-void integrate_columns(const FroxelView& view, const std::vector<FogDensity>& density,
-                       const std::vector<float>& sun_visibility, const MediumLighting& lighting,
-                       const std::vector<glm::vec3>& knots, JobSystem& jobs, std::vector<IntegratedFroxel>& volume);
+//
+// Incremental integration: with `previous` (the visibility `volume` was last
+// integrated from) and `continue_volume` (volume holds that integration, of
+// this view, density and light), a column's slices before its first
+// visibility that differs from previous, bit for bit, keep their volume,
+// and the recurrence continues from there: the same bits as integrating
+// all of it. previous is brought up to date either way. Returns how many
+// froxels were integrated.
+struct IncrementalIntegration {
+  std::vector<float>* previous = nullptr;
+  bool continue_volume = false;
+};
+size_t integrate_columns(const FroxelView& view, const std::vector<FogDensity>& density,
+                         const std::vector<float>& sun_visibility, const MediumLighting& lighting,
+                         const std::vector<glm::vec3>& knots, JobSystem& jobs, std::vector<IntegratedFroxel>& volume,
+                         const IncrementalIntegration& incremental = {});
 
 // Composite of pixels [x0,x1) x [y0,y1): colour = colour * T + L at the
 // pixel's distance. Bilinear across columns; along depth the froxel's

@@ -7,8 +7,15 @@
 // direction; the illuminance varies slowly (atmospheric transmittance with
 // altitude), so it is evaluated at the column's first and last slice centres
 // (one sun_at batch per row of columns) and interpolated in distance.
+//
+// In a still view most of the visibility is the same from frame to frame
+// (fully lit or shadowed air, where every sample agrees), and a column's
+// volume up to its first changed slice is what it was: incremental
+// integration starts each column there.
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 
 #include "fog/froxel_passes.h"
 #include "fog/homogeneous_medium.h"
@@ -37,11 +44,8 @@ struct ColumnLight {
   glm::vec3 ambient;
 };
 
-void column_terms(const FogDensity* __restrict d,
-                                                                      const float* __restrict visibility,
-                                                                      const float* __restrict dt,
-                                                                      const float* __restrict center, int n,
-                                                                      const ColumnLight& light, ColumnTerms& out) {
+void column_terms(const FogDensity* __restrict d, const float* __restrict visibility, const float* __restrict dt,
+                  const float* __restrict center, int n, const ColumnLight& light, ColumnTerms& out) {
   float* __restrict opacity = out.opacity.data();
   float* __restrict weight = out.weight.data();
   float* __restrict r = out.r.data();
@@ -68,6 +72,20 @@ void column_terms(const FogDensity* __restrict d,
   }
 }
 
+// The first k < n where a[k] and b[k] differ bit for bit (n if none): eight
+// slices at a time (a branch per block, not per slice).
+int first_difference(const float* a, const float* b, int n) {
+  int k = 0;
+  for (; k + 8 <= n; k += 8) {
+    uint32_t differ = 0;
+    for (int j = k; j < k + 8; ++j) differ |= std::bit_cast<uint32_t>(a[j]) ^ std::bit_cast<uint32_t>(b[j]);
+    if (differ) break;
+  }
+  for (; k < n; ++k)
+    if (std::bit_cast<uint32_t>(a[k]) != std::bit_cast<uint32_t>(b[k])) return k;
+  return n;
+}
+
 }  // namespace
 
 std::vector<glm::vec3> sun_knots(const FroxelView& view, const MediumLighting& lighting, JobSystem& jobs) {
@@ -91,11 +109,19 @@ std::vector<glm::vec3> sun_knots(const FroxelView& view, const MediumLighting& l
   return out;
 }
 
-void integrate_columns(const FroxelView& view, const std::vector<FogDensity>& density,
-                       const std::vector<float>& sun_visibility, const MediumLighting& lighting,
-                       const std::vector<glm::vec3>& knots, JobSystem& jobs, std::vector<IntegratedFroxel>& volume) {
+size_t integrate_columns(const FroxelView& view, const std::vector<FogDensity>& density,
+                         const std::vector<float>& sun_visibility, const MediumLighting& lighting,
+                         const std::vector<glm::vec3>& knots, JobSystem& jobs, std::vector<IntegratedFroxel>& volume,
+                         const IncrementalIntegration& incremental) {
   const FroxelGrid& g = view.grid;
   volume.resize(g.count());
+  float* previous = nullptr;
+  if (incremental.previous) {
+    incremental.previous->resize(g.count());
+    previous = incremental.previous->data();
+  }
+  const bool resume = previous && incremental.continue_volume;
+  std::vector<size_t> integrated_per_row(size_t(g.ny()), 0);
   const int nx = g.nx(), nz = g.nz();
   std::vector<float> dt(static_cast<size_t>(nz)), center(static_cast<size_t>(nz));
   for (int k = 0; k < nz; ++k) {
@@ -110,6 +136,7 @@ void integrate_columns(const FroxelView& view, const std::vector<FogDensity>& de
     // Per row of columns: the sun's illuminance at each column's ends,
     // lerped between the knots.
     std::vector<glm::vec3> e(size_t(nx) * 2, lighting.sun_illuminance);
+    std::vector<int> start(static_cast<size_t>(nx));
     for (int y = int(begin); y < int(end); ++y) {
       if (!knots.empty()) {
         const glm::vec3* knot_e = knots.data() + size_t(y) * row_knots;
@@ -122,10 +149,28 @@ void integrate_columns(const FroxelView& view, const std::vector<FogDensity>& de
           }
         }
       }
+      // Where each column of the row starts (its first changed slice when
+      // resuming). Resumed columns read their density and the volume from
+      // there, which the hardware prefetcher cannot guess: both are
+      // requested for the whole row first.
       for (int x = 0; x < nx; ++x) {
         const size_t c = size_t(y) * nx + x;
         const int n = view.active_slices[c];
-        if (n == 0) continue;
+        const size_t base = g.index(x, y, 0);
+        start[size_t(x)] = resume ? first_difference(sun_visibility.data() + base, previous + base, n) : 0;
+        if (!resume) continue;
+        const int s = start[size_t(x)];
+        if (s == n) continue;
+        const char* from = reinterpret_cast<const char*>(density.data() + base + s);
+        const char* to = reinterpret_cast<const char*>(density.data() + base + n);
+        for (const char* p = from; p < to; p += 64) __builtin_prefetch(p);
+        if (s > 0) __builtin_prefetch(volume.data() + base + s - 1);  // the state it continues from
+      }
+      for (int x = 0; x < nx; ++x) {
+        const size_t c = size_t(y) * nx + x;
+        const int n = view.active_slices[c];
+        const int s = start[size_t(x)];  // slices [0, s) keep their volume
+        if (s == n) continue;
         const glm::vec3 dir = view.directions[c];
         ColumnLight light;
         light.e0 = e[size_t(x) * 2];
@@ -134,17 +179,20 @@ void integrate_columns(const FroxelView& view, const std::vector<FogDensity>& de
         light.phase = evaluate_phase(lighting.phase, lighting.anisotropy, glm::dot(dir, lighting.sun_direction));
         light.ambient = phase_convolved_ambient(lighting.ambient_sh, zonal, dir);
         const size_t base = g.index(x, y, 0);
-        const FogDensity* d = density.data() + base;
+        const float* visibility = sun_visibility.data() + base;
+        if (previous) std::copy(visibility + s, visibility + n, previous + base + size_t(s));
+        integrated_per_row[size_t(y)] += size_t(n - s);
+        const FogDensity* d = density.data() + base + s;
         // The terms run to a whole number of 8-slice blocks (within the
         // column): the vectorised loop then has no scalar remainder, and the
         // slices past n, stale but finite, are computed and never read.
-        const int whole_blocks = std::min((n + 7) / 8 * 8, nz);
-        column_terms(d, sun_visibility.data() + base, dt.data(), center.data(), whole_blocks, light, terms);
-        // The front-to-back recurrence.
-        IntegratedFroxel* out = volume.data() + base;
-        glm::vec3 in_scatter(0.0f);
-        float transmittance = 1.0f;
-        for (int k = 0; k < n; ++k) {
+        const int whole_blocks = std::min((n - s + 7) / 8 * 8, nz - s);
+        column_terms(d, visibility + s, dt.data() + s, center.data() + s, whole_blocks, light, terms);
+        // The front-to-back recurrence, from the volume at slice s - 1.
+        IntegratedFroxel* out = volume.data() + base + s;
+        glm::vec3 in_scatter = s > 0 ? out[-1].in_scatter : glm::vec3(0.0f);
+        float transmittance = s > 0 ? out[-1].transmittance : 1.0f;
+        for (int k = 0; k < n - s; ++k) {
           const float tw = transmittance * terms.weight[size_t(k)];
           in_scatter.x += terms.r[size_t(k)] * tw;
           in_scatter.y += terms.g[size_t(k)] * tw;
@@ -155,6 +203,9 @@ void integrate_columns(const FroxelView& view, const std::vector<FogDensity>& de
       }
     }
   });
+  size_t integrated = 0;
+  for (size_t r : integrated_per_row) integrated += r;
+  return integrated;
 }
 
 }  // namespace cr

@@ -51,6 +51,22 @@ std::vector<glm::vec3> many_sample(const FrameView& view, const LightEnvironment
   return composite(fog, v, l, shadow, jobs, sky_distances(), glm::vec3(0.0f));
 }
 
+// Froxels of the frame's volume (active slices) that differ, bit for bit,
+// from integrating the frame's density and visibility afresh.
+size_t volume_mismatches(const FroxelFog& fog, const LightEnvironment& l, JobSystem& jobs) {
+  const FroxelView& view = fog.view();
+  const MediumLighting m = medium_lighting(fog.scene(), l, view.camera);
+  std::vector<IntegratedFroxel> fresh;
+  integrate_columns(view, fog.density_volume(), fog.sun_visibility(), m, sun_knots(view, m, jobs), jobs, fresh);
+  size_t mismatches = 0;
+  for (size_t c = 0; c < view.grid.columns(); ++c)
+    for (int k = 0; k < view.active_slices[c]; ++k) {
+      const size_t i = c * size_t(view.grid.nz()) + size_t(k);
+      mismatches += std::memcmp(&fresh[i], &fog.volume()[i], sizeof(IntegratedFroxel)) != 0;
+    }
+  return mismatches;
+}
+
 // Raises worst[i] to image i's mean error against the reference.
 void raise_worst(const std::vector<glm::vec3>& reference, const std::array<const std::vector<glm::vec3>*, 3>& images,
                  std::array<double, 3>& worst) {
@@ -214,6 +230,52 @@ TEST_CASE("a still view voxelises its density once; the kept density is a fresh 
   CHECK_FALSE(fog.stats().density_kept);
 }
 
+TEST_CASE("a still view integrates only the slices whose visibility changed, with the bits of integrating all") {
+  JobSystem jobs(2);
+  const auto [cam, shadow, l] = StillView{};
+  FroxelFog fog(profile(true), uniform_fog(0.04f, glm::vec3(0.9f)));
+  size_t mismatched = 0, incremental_frames = 0;
+  for (int f = 0; f < 40; ++f) {
+    composite(fog, frame_view(cam, cam, f, f > 0, kW, kH), l, shadow, jobs, sky_distances(), {});
+    mismatched += volume_mismatches(fog, l, jobs);
+    const FroxelFogStats& s = fog.stats();
+    // Frame 0 has no history and frame 1 no integration of this view to
+    // continue: both integrate everything; frozen frames keep the volume.
+    if (f <= 1) CHECK(s.integrated_froxels == s.active_froxels);
+    if (f >= 2 && !s.volume_kept) {
+      CHECK(s.integrated_froxels < s.active_froxels / 2);
+      ++incremental_frames;
+    }
+  }
+  CHECK(mismatched == 0);
+  CHECK(incremental_frames >= 30);  // frames 2 to the freeze at 35
+}
+
+TEST_CASE("a still view integrates everything again under another light or after another view") {
+  JobSystem jobs(2);
+  const auto [home, shadow, l] = StillView{};
+  const LightEnvironment brighter = light(kSun, 20000.0f, 50.0f);
+  const Camera away = camera_at({-5, 3, 19}, {2, 4, -10}, kW, kH);
+  const ShadowMap away_shadow = wall_shadow(away, kSun);
+  FroxelFog fog(profile(true), uniform_fog(0.04f, glm::vec3(0.9f)));
+  // Frames 0-3 at home, 4 under a brighter sun, 5 away, 6-8 home again.
+  Camera prev = home;
+  for (int f = 0; f < 9; ++f) {
+    const Camera& cam = f == 5 ? away : home;
+    composite(fog, frame_view(cam, prev, f, f > 0, kW, kH), f == 4 ? brighter : l, f == 5 ? away_shadow : shadow, jobs,
+              sky_distances(), {});
+    prev = cam;
+    const FroxelFogStats& s = fog.stats();
+    CAPTURE(f);
+    // Incremental from the second still frame on; the light's change (4), the
+    // move (5), the first frame back (6, not still) and the first still one
+    // after it (7: the frame before did not keep its visibility) integrate
+    // everything.
+    if (f == 2 || f == 3 || f == 8) CHECK(s.integrated_froxels < s.active_froxels / 2);
+    if (f >= 4 && f <= 7) CHECK(s.integrated_froxels == s.active_froxels);
+  }
+}
+
 TEST_CASE("whatever came before, a still view settles on the same frame") {
   JobSystem jobs(2);
   const auto [home, home_shadow, l] = StillView{};
@@ -239,6 +301,7 @@ TEST_CASE("whatever came before, a still view settles on the same frame") {
     FroxelFog fog(profile(true), uniform_fog(0.04f, glm::vec3(0.9f)));
     Camera prev = home;
     int f = 0;
+    size_t volume_mismatched = 0;  // against integrating each frame afresh (incremental integration)
     for (int e = 0; e < 12; ++e) {
       Camera cam = home;
       glm::vec3 sun = kSun;
@@ -256,6 +319,7 @@ TEST_CASE("whatever came before, a still view settles on the same frame") {
         if (kind == 4 && n % 3 == 0) fog.reset_history();
         const auto out = composite(fog, frame_view(cam, prev, f, true, kW, kH), lit, shadow, jobs, *distance, {});
         for (const glm::vec3& c : out) REQUIRE(std::isfinite(c.x + c.y + c.z));
+        volume_mismatched += volume_mismatches(fog, lit, jobs);
         prev = cam;
       }
     }
@@ -263,9 +327,11 @@ TEST_CASE("whatever came before, a still view settles on the same frame") {
     std::vector<glm::vec3> out;
     for (int i = 0; i < kSettle; ++i, ++f) {
       out = composite(fog, frame_view(home, prev, f, true, kW, kH), l, home_shadow, jobs, sky_distances(), {});
+      volume_mismatched += volume_mismatches(fog, l, jobs);
       prev = home;
     }
     CHECK(fog.stats().lighting_frozen);
+    CHECK(volume_mismatched == 0);
     const double difference = mean_relative_error(settled, out);
     MESSAGE("seed " << seed << ": settled frame against a fresh start's: " << difference);
     CHECK(difference < 0.002);
