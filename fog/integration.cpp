@@ -17,6 +17,8 @@
 #include <cmath>
 #include <cstdint>
 
+#include <immintrin.h>
+
 #include "fog/froxel_passes.h"
 #include "fog/homogeneous_medium.h"
 #include "fog/phase_function.h"
@@ -72,18 +74,28 @@ void column_terms(const FogDensity* __restrict d, const float* __restrict visibi
   }
 }
 
-// The first k < n where a[k] and b[k] differ bit for bit (n if none): eight
-// slices at a time (a branch per block, not per slice).
-int first_difference(const float* a, const float* b, int n) {
-  int k = 0;
-  for (; k + 8 <= n; k += 8) {
-    uint32_t differ = 0;
-    for (int j = k; j < k + 8; ++j) differ |= std::bit_cast<uint32_t>(a[j]) ^ std::bit_cast<uint32_t>(b[j]);
-    if (differ) break;
-  }
-  for (; k < n; ++k)
+// The first k < n where a[k] and b[k] differ bit for bit (n if none), from
+// slice k0 (blocks before it are known to agree).
+int first_difference_from(const float* a, const float* b, int k0, int n) {
+  for (int k = k0; k < n; ++k)
     if (std::bit_cast<uint32_t>(a[k]) != std::bit_cast<uint32_t>(b[k])) return k;
   return n;
+}
+
+// The same, eight slices to a compare where the CPU has AVX2.
+__attribute__((target("avx2"))) int first_difference_avx2(const float* a, const float* b, int n) {
+  int k = 0;
+  for (; k + 8 <= n; k += 8) {
+    const __m256i x = _mm256_xor_si256(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(a + k)),
+                                       _mm256_loadu_si256(reinterpret_cast<const __m256i*>(b + k)));
+    if (!_mm256_testz_si256(x, x)) break;
+  }
+  return first_difference_from(a, b, k, n);
+}
+
+int first_difference(const float* a, const float* b, int n) {
+  static const bool avx2 = __builtin_cpu_supports("avx2");
+  return avx2 ? first_difference_avx2(a, b, n) : first_difference_from(a, b, 0, n);
 }
 
 }  // namespace
