@@ -112,10 +112,10 @@ ReprojectStats reproject_history(const FroxelView& view, const std::vector<float
     HistoryProjection::Scratch scratch(nz);
     // The froxel's clamp range per slice, and a moving camera's slices whose
     // range is not one value: their centres, current values and history.
-    std::vector<float> lo_j(static_cast<size_t>(nz)), hi_j(static_cast<size_t>(nz));
-    std::vector<int> open(static_cast<size_t>(nz));
-    std::vector<float> open_t(static_cast<size_t>(nz)), open_cur(static_cast<size_t>(nz)),
-        open_h(static_cast<size_t>(nz));
+    const size_t ranges = clamp ? size_t(nz) : 0, sparse = clamp && !stats.identity ? size_t(nz) : 0;
+    std::vector<float> lo_j(ranges), hi_j(ranges);
+    std::vector<int> open(sparse);
+    std::vector<float> open_t(sparse), open_cur(sparse), open_h(sparse);
     // Light change of three neighbouring columns (vertical maxima), rotated the same way.
     std::vector<float> change_max(light_change ? 3 * static_cast<size_t>(nz) : 0);
     for (int y = int(begin); y < int(end); ++y) {
