@@ -77,6 +77,7 @@ void FogPlugin::report_frame(nlohmann::json& frame) {
   frame["lighting_frozen"] = s.lighting_frozen;
   frame["volume_kept"] = s.volume_kept;
   frame["integrated_froxels"] = s.integrated_froxels;
+  frame["unsettled_froxels"] = s.unsettled_froxels;
 }
 
 }  // namespace cr

@@ -25,6 +25,8 @@ struct FogProfileSettings {
   bool light_change_rejection = true;  // trust history less where a moving sun changed the sample's visibility
   bool still_accumulation = true;  // a still view (same camera and sun) averages the jitter sequence evenly, unclamped,
                                    // and drops the filter once a whole sequence is in
+  bool still_settled = false;  // opt-in: a still view lights again only froxels whose 3x3x3 history is not one 0 or 1
+                               // (misses occluders thinner than a froxel that two samples missed)
 };
 
 enum class FogPhase { HenyeyGreenstein, CornetteShanks };

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "fog/settled_froxels.h"
+
 namespace cr {
 
 FroxelFog::FroxelFog(const FogProfileSettings& profile, const FogSceneSettings& scene)
@@ -94,8 +96,21 @@ void FroxelFog::lighting(const ShadowMap& shadow, JobSystem& jobs, const ShadowM
     const char* end = reinterpret_cast<const char*>(density_.data() + g.index(0, y1, 0));
     for (const char* p = begin; p < end; p += 64) __builtin_prefetch(p);
   };
+  // With still_settled, a still view lights again only the froxels whose
+  // history is not settled (settled_froxels.h), once the history holds two
+  // samples (this run's first and the frame before it): with one, a still
+  // view of fog_volumes missed edges that the second sample showed.
+  const bool settle = accumulating && profile_.still_settled && still_phases_ != 0;
+  SettledSamples settled;
+  if (settle) {
+    unsettled_spans(view_, history_[1 - current_], jobs, settled_scratch_, unsettled_);
+    settled.spans = &unsettled_;
+    settled.values = &history_[1 - current_];
+    for (const SliceSpan& s : unsettled_) stats_.unsettled_froxels += size_t(s.end - s.first);
+  }
   light_froxels(view_, density_, volume_shadow, jitter, jobs, sun_current_, density_kept_ ? prefetch : voxelize,
-                light_changed_ ? &previous_shadow : nullptr, light_changed_ ? &light_change_ : nullptr);
+                light_changed_ ? &previous_shadow : nullptr, light_changed_ ? &light_change_ : nullptr,
+                settle ? &settled : nullptr);
   density_valid_ = true;
   blended_ = -1;
   if (accumulating) add_still_sample(jobs);

@@ -37,6 +37,7 @@ struct FroxelFogStats {
   bool lighting_frozen = false;  // a converged still view: lighting and reprojection skipped
   bool volume_kept = false;      // ... and under the same light: integration skipped too
   size_t integrated_froxels = 0;  // froxels integration produced (a still view keeps the unchanged ones)
+  size_t unsettled_froxels = 0;  // a still view's froxels lit again (the rest settled); 0 when not still
 };
 
 // The lighting integration applies: the scene's phase function, the light
@@ -102,6 +103,8 @@ class FroxelFog {
   bool density_valid_ = false;  // density_ holds density_view_'s voxelisation
   bool density_kept_ = false;   // this frame's view is density_view_: no voxelisation
   std::vector<float> sun_current_;
+  std::vector<SliceSpan> unsettled_;  // a still view's slices to light per column (settled_froxels.h)
+  std::vector<uint64_t> settled_scratch_;
   std::vector<float> light_change_;  // valid this frame when light_changed_
   bool light_changed_ = false;
   glm::vec3 history_sun_{0.0f};  // the last frame's shadow-map sun (0: no map)

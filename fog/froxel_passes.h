@@ -106,10 +106,21 @@ struct JitterInputs {
 // temporal gradient of A-SVGF, exact where it is measured: the same point,
 // two lights): how much the light itself changed there, which no
 // reprojection of the history can account for. 0 in clear air.
+//
+// With `settled` (a still view, see settled_froxels.h), each column lights
+// only the slices of its span and takes the settled samples elsewhere.
+struct SliceSpan {  // slices [first, end) of a column
+  uint16_t first = 0, end = 0;
+};
+struct SettledSamples {
+  const std::vector<SliceSpan>* spans = nullptr;  // per column: the slices to light
+  const std::vector<float>* values = nullptr;     // the sample of every other lit slice
+};
 void light_froxels(const FroxelView& view, const std::vector<FogDensity>& density, const VolumeShadow& shadow,
                    const JitterInputs& jitter, JobSystem& jobs, std::vector<float>& sun_visibility,
                    const std::function<void(int y0, int y1)>& before_rows = nullptr,
-                   const VolumeShadow* previous = nullptr, std::vector<float>* light_change = nullptr);
+                   const VolumeShadow* previous = nullptr, std::vector<float>* light_change = nullptr,
+                   const SettledSamples* settled = nullptr);
 
 // The same camera and grid layout: history is read in place.
 bool same_view(const FroxelView& a, const FroxelView& b);

@@ -106,7 +106,7 @@ ScatteringRange scattering_range(const float* density, int n) {
 void light_froxels(const FroxelView& view, const std::vector<FogDensity>& density, const VolumeShadow& shadow,
                    const JitterInputs& jitter, JobSystem& jobs, std::vector<float>& sun_visibility,
                    const std::function<void(int y0, int y1)>& before_rows, const VolumeShadow* previous,
-                   std::vector<float>* light_change) {
+                   std::vector<float>* light_change, const SettledSamples* settled) {
   const FroxelGrid& g = view.grid;
   const PixelRays rays(view.camera, g.width(), g.height());
   sun_visibility.resize(g.count());
@@ -134,10 +134,23 @@ void light_froxels(const FroxelView& view, const std::vector<FogDensity>& densit
         float* change = previous ? light_change->data() + g.index(x, y, 0) : nullptr;
         const float* flat = reinterpret_cast<const float*>(density.data() + g.index(x, y, 0));
         const int n = view.lit_slices[size_t(y) * nx + x];
-        const ScatteringRange lit = scattering_range(flat, n);
+        ScatteringRange lit = scattering_range(flat, n);
         // Outside the range the froxels are clear air: 0.
         for (int k = 0; k < lit.first; ++k) out[k] = 0.0f;
         for (int k = lit.end; k < n; ++k) out[k] = 0.0f;
+        if (settled) {
+          // Settled froxels take their settled sample; the rest are lit.
+          const SliceSpan span = (*settled->spans)[size_t(y) * nx + x];
+          const float* value = settled->values->data() + g.index(x, y, 0);
+          const int first = std::max(lit.first, int(span.first)), end = std::min(lit.end, int(span.end));
+          if (first >= end) {
+            std::copy(value + lit.first, value + lit.end, out + lit.first);
+            continue;
+          }
+          std::copy(value + lit.first, value + first, out + lit.first);
+          std::copy(value + end, value + lit.end, out + end);
+          lit = ScatteringRange{first, end};
+        }
         if (change) {
           std::fill(change, change + lit.first, 0.0f);
           std::fill(change + lit.end, change + n, 0.0f);

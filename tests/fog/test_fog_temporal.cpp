@@ -251,6 +251,34 @@ TEST_CASE("a still view integrates only the slices whose visibility changed, wit
   CHECK(incremental_frames >= 30);  // frames 2 to the freeze at 35
 }
 
+TEST_CASE("with still_settled, a still view lights only its unsettled froxels, and converges as when it lights all") {
+  JobSystem jobs(2);
+  const auto [cam, shadow, l] = StillView{};
+  FogProfileSettings settled_profile = profile(true);
+  settled_profile.still_settled = true;
+  FroxelFog settled(settled_profile, uniform_fog(0.04f, glm::vec3(0.9f)));
+  FroxelFog exact(profile(true), uniform_fog(0.04f, glm::vec3(0.9f)));
+  double worst = 0.0;
+  for (int f = 0; f < 12; ++f) {
+    CAPTURE(f);
+    const FrameView view = frame_view(cam, cam, f, f > 0, kW, kH);
+    const auto a = composite(settled, view, l, shadow, jobs, sky_distances(), {});
+    const auto b = composite(exact, view, l, shadow, jobs, sky_distances(), {});
+    worst = std::max(worst, mean_relative_error(b, a));
+    const FroxelFogStats& s = settled.stats();
+    CHECK(exact.stats().unsettled_froxels == 0);
+    // Settling needs two samples in the history (frames 2 on) and stops with
+    // the lighting once the jitter sequence is in (frame 8).
+    if (f < 2 || f >= 8) CHECK(s.unsettled_froxels == 0);
+    if (f >= 2 && f < 8) {
+      CHECK(s.unsettled_froxels > 0);
+      CHECK(s.unsettled_froxels < s.lit_froxels / 4);
+    }
+  }
+  MESSAGE("still_settled against lighting every froxel, worst mean error over 12 frames: " << worst);
+  CHECK(worst < 1e-4);
+}
+
 TEST_CASE("a still view integrates everything again under another light or after another view") {
   JobSystem jobs(2);
   const auto [home, shadow, l] = StillView{};

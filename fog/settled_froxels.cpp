@@ -1,0 +1,104 @@
+// unsettled_spans on bit masks: per column and slice word (64 slices), one
+// mask of the slices whose history is exactly 0 and one of those exactly 1
+// (unlit slices set in both: they do not take part). The 3x3x3 test is then
+// separable ANDs of masks: with the column's neighbours in k - 1 and k + 1
+// (shifts), then over the three rows, then over the three columns (clamped
+// at the grid's edges, which repeats a neighbour: the AND does not change).
+// A froxel is settled where either mask keeps its bit.
+#include "fog/settled_froxels.h"
+
+#include <algorithm>
+
+#include <immintrin.h>
+
+namespace cr {
+
+namespace {
+
+// Bit b of the result: whether h[b] == value, for b < count (<= 64).
+uint64_t equal_bits_scalar(const float* h, int count, float value) {
+  uint64_t bits = 0;
+  for (int b = 0; b < count; ++b) bits |= uint64_t(h[b] == value) << b;
+  return bits;
+}
+
+__attribute__((target("avx2"))) uint64_t equal_bits_avx2(const float* h, int count, float value) {
+  const __m256 v = _mm256_set1_ps(value);
+  uint64_t bits = 0;
+  int b = 0;
+  for (; b + 8 <= count; b += 8)
+    bits |= uint64_t(unsigned(_mm256_movemask_ps(_mm256_cmp_ps(_mm256_loadu_ps(h + b), v, _CMP_EQ_OQ)))) << b;
+  for (; b < count; ++b) bits |= uint64_t(h[b] == value) << b;
+  return bits;
+}
+
+// The lowest `count` bits set (count in [0, 64]).
+uint64_t low_bits(int count) { return count >= 64 ? ~uint64_t(0) : (uint64_t(1) << count) - 1; }
+
+}  // namespace
+
+void unsettled_spans(const FroxelView& view, const std::vector<float>& history, JobSystem& jobs,
+                     std::vector<uint64_t>& scratch, std::vector<SliceSpan>& spans) {
+  static const bool avx2 = __builtin_cpu_supports("avx2");
+  const auto equal_bits = avx2 ? equal_bits_avx2 : equal_bits_scalar;
+  const FroxelGrid& g = view.grid;
+  const int nx = g.nx(), ny = g.ny(), nz = g.nz();
+  const int words = (nz + 63) / 64;
+  const size_t per_column = 2 * size_t(words);  // the 0 masks, then the 1 masks
+  spans.resize(g.columns());
+  // Per column: the masks ANDed with their neighbours in k - 1 and k + 1.
+  scratch.resize(g.columns() * per_column);
+  jobs.parallel_for("fog.settled.slices", g.columns(), 64, [&](size_t begin, size_t end) {
+    std::vector<uint64_t> m(per_column);
+    for (size_t c = begin; c < end; ++c) {
+      const int n = view.lit_slices[c];
+      const float* h = history.data() + c * size_t(nz);
+      for (int w = 0; w < words; ++w) {
+        const int lit = std::clamp(n - 64 * w, 0, 64);
+        const uint64_t free = ~low_bits(lit);  // unlit slices and those past the grid
+        m[size_t(w)] = equal_bits(h + 64 * w, lit, 0.0f) | free;
+        m[size_t(words + w)] = equal_bits(h + 64 * w, lit, 1.0f) | free;
+      }
+      uint64_t* out = scratch.data() + c * per_column;
+      for (int cls = 0; cls < 2; ++cls) {
+        const uint64_t* a = m.data() + size_t(cls * words);
+        for (int w = 0; w < words; ++w) {
+          const uint64_t below = (a[w] << 1) | (w > 0 ? a[w - 1] >> 63 : 1);
+          const uint64_t above = (a[w] >> 1) | (w + 1 < words ? a[w + 1] << 63 : uint64_t(1) << 63);
+          out[size_t(cls * words + w)] = a[w] & below & above;
+        }
+      }
+    }
+  });
+  jobs.parallel_for("fog.settled.columns", size_t(ny), 1, [&](size_t begin, size_t end) {
+    std::vector<uint64_t> vertical(size_t(nx) * per_column);
+    for (int y = int(begin); y < int(end); ++y) {
+      const int ya = std::max(y - 1, 0), yb = std::min(y + 1, ny - 1);
+      for (int x = 0; x < nx; ++x) {
+        const uint64_t* a = scratch.data() + (size_t(ya) * nx + x) * per_column;
+        const uint64_t* b = scratch.data() + (size_t(y) * nx + x) * per_column;
+        const uint64_t* c = scratch.data() + (size_t(yb) * nx + x) * per_column;
+        uint64_t* v = vertical.data() + size_t(x) * per_column;
+        for (size_t i = 0; i < per_column; ++i) v[i] = a[i] & b[i] & c[i];
+      }
+      for (int x = 0; x < nx; ++x) {
+        const uint64_t* l = vertical.data() + size_t(std::max(x - 1, 0)) * per_column;
+        const uint64_t* m = vertical.data() + size_t(x) * per_column;
+        const uint64_t* r = vertical.data() + size_t(std::min(x + 1, nx - 1)) * per_column;
+        const int n = view.lit_slices[size_t(y) * nx + x];
+        int first = -1, last = -1;
+        for (int w = 0; w < words; ++w) {
+          const size_t z = size_t(w), o = size_t(words + w);
+          const uint64_t settled = (l[z] & m[z] & r[z]) | (l[o] & m[o] & r[o]);
+          const uint64_t open = ~settled & low_bits(std::clamp(n - 64 * w, 0, 64));
+          if (!open) continue;
+          if (first < 0) first = 64 * w + __builtin_ctzll(open);
+          last = 64 * w + 63 - __builtin_clzll(open);
+        }
+        spans[size_t(y) * nx + x] = first < 0 ? SliceSpan{} : SliceSpan{uint16_t(first), uint16_t(last + 1)};
+      }
+    }
+  });
+}
+
+}  // namespace cr
