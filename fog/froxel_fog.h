@@ -37,7 +37,8 @@ struct FroxelFogStats {
   bool lighting_frozen = false;  // a converged still view: lighting and reprojection skipped
   bool volume_kept = false;      // ... and under the same light: integration skipped too
   size_t integrated_froxels = 0;  // froxels integration produced (a still view keeps the unchanged ones)
-  size_t unsettled_froxels = 0;  // a still view's froxels lit again (the rest settled); 0 when not still
+  size_t unsettled_froxels = 0;  // with still_settled, the froxels of the spans lit again (settled ones
+                                 // between a column's first and last unsettled one included); else 0
 };
 
 // The lighting integration applies: the scene's phase function, the light

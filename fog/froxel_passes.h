@@ -108,7 +108,8 @@ struct JitterInputs {
 // reprojection of the history can account for. 0 in clear air.
 //
 // With `settled` (a still view, see settled_froxels.h), each column lights
-// only the slices of its span and takes the settled samples elsewhere.
+// only the slices of its span and takes the settled samples elsewhere; it is
+// ignored with `previous` (a moving sun lights everything).
 struct SliceSpan {  // slices [first, end) of a column
   uint16_t first = 0, end = 0;
 };

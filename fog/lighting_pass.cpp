@@ -111,6 +111,8 @@ void light_froxels(const FroxelView& view, const std::vector<FogDensity>& densit
   const PixelRays rays(view.camera, g.width(), g.height());
   sun_visibility.resize(g.count());
   if (!light_change) previous = nullptr;
+  // Settled samples belong to a still view; a moving sun lights everything.
+  if (previous) settled = nullptr;
   if (previous) light_change->resize(g.count());
   const int nx = g.nx(), nz = g.nz();
   const int samples = std::max(jitter.samples, 1);

@@ -183,7 +183,7 @@ ReprojectStats reproject_history(const FroxelView& view, const std::vector<float
             hist = hist_all + base;
           }
           rejected = size_t(n - m);
-          reads_per_row[size_t(y)] += size_t(m);
+          reads_per_row[size_t(y)] += len;
         } else {
           const glm::vec3 d = view.directions[c];
           const glm::vec3 dv(glm::dot(d, hc.right), glm::dot(d, hc.up), glm::dot(d, hc.forward));
