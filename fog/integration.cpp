@@ -150,6 +150,7 @@ size_t integrate_columns(const FroxelView& view, const std::vector<FogDensity>& 
     std::vector<glm::vec3> e(size_t(nx) * 2, lighting.sun_illuminance);
     std::vector<int> start(static_cast<size_t>(nx));
     for (int y = int(begin); y < int(end); ++y) {
+      size_t integrated = 0;  // stored once per row (rows of other jobs share cache lines)
       if (!knots.empty()) {
         const glm::vec3* knot_e = knots.data() + size_t(y) * row_knots;
         for (int x = 0; x < nx; ++x) {
@@ -193,7 +194,7 @@ size_t integrate_columns(const FroxelView& view, const std::vector<FogDensity>& 
         const size_t base = g.index(x, y, 0);
         const float* visibility = sun_visibility.data() + base;
         if (previous) std::copy(visibility + s, visibility + n, previous + base + size_t(s));
-        integrated_per_row[size_t(y)] += size_t(n - s);
+        integrated += size_t(n - s);
         const FogDensity* d = density.data() + base + s;
         // The terms run to a whole number of 8-slice blocks (within the
         // column): the vectorised loop then has no scalar remainder, and the
@@ -213,6 +214,7 @@ size_t integrate_columns(const FroxelView& view, const std::vector<FogDensity>& 
           out[k] = IntegratedFroxel{in_scatter, transmittance, d[k].extinction};
         }
       }
+      integrated_per_row[size_t(y)] = integrated;
     }
   });
   size_t integrated = 0;

@@ -119,6 +119,8 @@ ReprojectStats reproject_history(const FroxelView& view, const std::vector<float
     // Light change of three neighbouring columns (vertical maxima), rotated the same way.
     std::vector<float> change_max(light_change ? 3 * static_cast<size_t>(nz) : 0);
     for (int y = int(begin); y < int(end); ++y) {
+      // The row's counts, stored once (rows of other jobs share cache lines).
+      size_t reads = 0, rejected_in_row = 0;
       const int ya = std::max(y - 1, 0), yb = std::min(y + 1, ny - 1);
       const uint16_t* lit_row = lit_all + size_t(y) * nx;
       // The slices any of xc - 1, xc, xc + 1 produces.
@@ -183,7 +185,7 @@ ReprojectStats reproject_history(const FroxelView& view, const std::vector<float
             hist = hist_all + base;
           }
           rejected = size_t(n - m);
-          reads_per_row[size_t(y)] += len;
+          reads += len;
         } else {
           const glm::vec3 d = view.directions[c];
           const glm::vec3 dv(glm::dot(d, hc.right), glm::dot(d, hc.up), glm::dot(d, hc.forward));
@@ -211,15 +213,15 @@ ReprojectStats reproject_history(const FroxelView& view, const std::vector<float
             rejected = projection->read(scratch, open_cur.data(), m, open_h.data());
             std::copy(cur, cur + n, h.data());
             for (int i = 0; i < m; ++i) h[size_t(open[size_t(i)])] = open_h[size_t(i)];
-            reads_per_row[size_t(y)] += size_t(m);
+            reads += size_t(m);
           } else {
             projection->project(offset, dv, centers.data(), n, scratch.fx.data(), scratch.fy.data(),
                                scratch.fz.data(), scratch.inside.data());
             rejected = projection->read(scratch, cur, n, h.data());
-            reads_per_row[size_t(y)] += len;
+            reads += len;
           }
         }
-        rejected_per_row[size_t(y)] += rejected;
+        rejected_in_row += rejected;
         if (clamp) {
           for (size_t j = 0; j < len; ++j) {
             const float clamped = std::min(std::max(hist[j], lo_j[j]), hi_j[j]);
@@ -240,6 +242,8 @@ ReprojectStats reproject_history(const FroxelView& view, const std::vector<float
           }
         }
       }
+      reads_per_row[size_t(y)] = reads;
+      rejected_per_row[size_t(y)] = rejected_in_row;
     }
   });
   for (size_t r : rejected_per_row) stats.rejected += r;
