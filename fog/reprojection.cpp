@@ -110,10 +110,9 @@ ReprojectStats reproject_history(const FroxelView& view, const std::vector<float
     // Clamp range of three neighbouring columns, rotated along the row.
     std::vector<float> range_lo(3 * static_cast<size_t>(nz)), range_hi(3 * static_cast<size_t>(nz));
     HistoryProjection::Scratch scratch(nz);
-    // The froxel's clamp range per slice, and a moving camera's slices whose
-    // range is not one value: their centres, current values and history.
-    const size_t ranges = clamp ? size_t(nz) : 0, sparse = clamp && !stats.identity ? size_t(nz) : 0;
-    std::vector<float> lo_j(ranges), hi_j(ranges);
+    // With the clamp, a moving camera's slices whose range is not one value:
+    // their centres, current values and history.
+    const size_t sparse = clamp && !stats.identity ? size_t(nz) : 0;
     std::vector<int> open(sparse);
     std::vector<float> open_t(sparse), open_cur(sparse), open_h(sparse);
     // Light change of three neighbouring columns (vertical maxima), rotated the same way.
@@ -154,6 +153,16 @@ ReprojectStats reproject_history(const FroxelView& view, const std::vector<float
         // History per slice; where there is none it takes the current value,
         // which the clamp keeps and the blend returns unchanged.
         const size_t len = size_t(n);
+        // The clamp's slots of columns x - 1, x, x + 1 (clamped at the edges).
+        const size_t left = size_t(std::max(x - 1, 0) % 3) * nz, mid = size_t(x % 3) * nz,
+                     right = size_t(std::min(x + 1, nx - 1) % 3) * nz;
+        const float* lo = range_lo.data();
+        const float* hi = range_hi.data();
+        // Slice j's clamp range is one value (the current one).
+        auto one_value = [&](size_t j) {
+          return std::min(std::min(lo[left + j], lo[mid + j]), lo[right + j]) ==
+                 std::max(std::max(hi[left + j], hi[mid + j]), hi[right + j]);
+        };
         if (clamp) {
           // Clamp the history to the range of the current frame's 3x3
           // neighbourhood in this slice (TAA-style): neighbours sample other
@@ -163,14 +172,6 @@ ReprojectStats reproject_history(const FroxelView& view, const std::vector<float
           // only where they are lit. The range is the columns' vertical
           // ranges combined across x - 1, x, x + 1 (clamped at the edges).
           if (x + 1 < nx) vertical_range(x + 1);  // into the slot x - 2 used
-          const size_t left = size_t(std::max(x - 1, 0) % 3) * nz, mid = size_t(x % 3) * nz,
-                       right = size_t(std::min(x + 1, nx - 1) % 3) * nz;
-          const float* lo = range_lo.data();
-          const float* hi = range_hi.data();
-          for (size_t j = 0; j < len; ++j) {
-            lo_j[j] = std::min(std::min(lo[left + j], lo[mid + j]), lo[right + j]);
-            hi_j[j] = std::max(std::max(hi[left + j], hi[mid + j]), hi[right + j]);
-          }
         }
         size_t rejected = 0;
         // The history of the slices: read in place for the same camera (the
@@ -197,11 +198,11 @@ ReprojectStats reproject_history(const FroxelView& view, const std::vector<float
             for (int j0 = 0; j0 < n; j0 += 8) {
               const int e = std::min(j0 + 8, n);
               int differ = 0;
-              for (int j = j0; j < e; ++j) differ |= int(lo_j[size_t(j)] != hi_j[size_t(j)]);
+              for (int j = j0; j < e; ++j) differ |= int(!one_value(size_t(j)));
               if (!differ) continue;
               for (int j = j0; j < e; ++j) {
                 open[size_t(m)] = j;
-                m += lo_j[size_t(j)] != hi_j[size_t(j)];
+                m += !one_value(size_t(j));
               }
             }
             for (int i = 0; i < m; ++i) {
@@ -224,7 +225,9 @@ ReprojectStats reproject_history(const FroxelView& view, const std::vector<float
         rejected_in_row += rejected;
         if (clamp) {
           for (size_t j = 0; j < len; ++j) {
-            const float clamped = std::min(std::max(hist[j], lo_j[j]), hi_j[j]);
+            const float l = std::min(std::min(lo[left + j], lo[mid + j]), lo[right + j]);
+            const float u = std::max(std::max(hi[left + j], hi[mid + j]), hi[right + j]);
+            const float clamped = std::min(std::max(hist[j], l), u);
             dst[j] = cur[j] + (clamped - cur[j]) * w;
           }
         } else {
