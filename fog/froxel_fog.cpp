@@ -35,7 +35,6 @@ void FroxelFog::density() {
   density_kept_ = density_valid_ && same_view(view_, density_view_) && view_.lit_slices == density_view_.lit_slices;
   stats_.density_kept = density_kept_;
   if (!density_kept_) {
-    ++density_generation_;
     density_plan_ = plan_density(view_, medium_, profile_.density_samples);
     density_.resize(view_.grid.count());
     density_valid_ = false;  // until the lighting has voxelised it
@@ -193,25 +192,22 @@ MediumLighting medium_lighting(const FogSceneSettings& scene, const LightEnviron
 void FroxelFog::integrate(const LightEnvironment& light, JobSystem& jobs) {
   const MediumLighting m = medium_lighting(scene_, light, view_.camera);
   std::vector<glm::vec3> knots = sun_knots(view_, m, jobs);
+  const bool same_light = same_medium_lighting(m, integrated_light_) && knots == integrated_knots_;
   // Nothing the integration reads has changed (a frozen view's density and
   // visibility, the same light): last frame's volume is this frame's, bit for bit.
-  stats_.volume_kept =
-      frozen_ && !volume_stale_ && same_medium_lighting(m, integrated_light_) && knots == integrated_knots_;
+  stats_.volume_kept = frozen_ && !volume_stale_ && same_light;
   if (stats_.volume_kept) return;
-  // A still view saves the visibility it integrates; the next frame, if it
-  // has the same view, density and light, integrates only what changed.
+  // A still view saves the visibility it integrates. The next frame, if it
+  // is still too, has the same view, lit and active froxels and density (the
+  // volume was integrated last frame, or kept since): under the same light
+  // it integrates only what changed.
   IncrementalIntegration incremental;
   if (still_) {
     incremental.previous = &integrated_visibility_;
-    incremental.continue_volume = visibility_saved_ && same_view(view_, integrated_view_) &&
-                                  view_.active_slices == integrated_view_.active_slices &&
-                                  density_generation_ == integrated_density_ &&
-                                  same_medium_lighting(m, integrated_light_) && knots == integrated_knots_;
+    incremental.continue_volume = visibility_saved_ && density_kept_ && same_light;
   }
   stats_.integrated_froxels = integrate_columns(view_, density_, sun_visibility(), m, knots, jobs, volume_, incremental);
   visibility_saved_ = still_;
-  if (still_) integrated_view_ = view_;
-  integrated_density_ = density_generation_;
   integrated_light_ = m;
   integrated_knots_ = std::move(knots);
   volume_stale_ = false;

@@ -137,12 +137,9 @@ class FroxelFog {
   MediumLighting integrated_light_;
   std::vector<glm::vec3> integrated_knots_;
   // For incremental integration in still views: the visibility volume_ was
-  // integrated from (when saved) and the view and voxelisation it was for.
+  // integrated from, saved when that frame was still.
   std::vector<float> integrated_visibility_;
   bool visibility_saved_ = false;
-  FroxelView integrated_view_;
-  unsigned density_generation_ = 0;  // counts voxelisations
-  unsigned integrated_density_ = 0;  // the generation volume_ was integrated with
   FroxelFogStats stats_;
 };
 

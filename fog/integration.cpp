@@ -148,7 +148,7 @@ size_t integrate_columns(const FroxelView& view, const std::vector<FogDensity>& 
     // Per row of columns: the sun's illuminance at each column's ends,
     // lerped between the knots.
     std::vector<glm::vec3> e(size_t(nx) * 2, lighting.sun_illuminance);
-    std::vector<int> start(static_cast<size_t>(nx));
+    std::vector<int> start(static_cast<size_t>(nx), 0);  // 0 without a volume to continue
     for (int y = int(begin); y < int(end); ++y) {
       size_t integrated = 0;  // stored once per row (rows of other jobs share cache lines)
       if (!knots.empty()) {
@@ -166,13 +166,10 @@ size_t integrate_columns(const FroxelView& view, const std::vector<FogDensity>& 
       // resuming). Resumed columns read their density and the volume from
       // there, which the hardware prefetcher cannot guess: both are
       // requested for the whole row first.
-      for (int x = 0; x < nx; ++x) {
-        const size_t c = size_t(y) * nx + x;
-        const int n = view.active_slices[c];
+      for (int x = 0; resume && x < nx; ++x) {
+        const int n = view.active_slices[size_t(y) * nx + x];
         const size_t base = g.index(x, y, 0);
-        start[size_t(x)] = resume ? first_difference(sun_visibility.data() + base, previous + base, n) : 0;
-        if (!resume) continue;
-        const int s = start[size_t(x)];
+        const int s = start[size_t(x)] = first_difference(sun_visibility.data() + base, previous + base, n);
         if (s == n) continue;
         const char* from = reinterpret_cast<const char*>(density.data() + base + s);
         const char* to = reinterpret_cast<const char*>(density.data() + base + n);
