@@ -209,6 +209,7 @@ void FroxelFog::integrate(const LightEnvironment& light, JobSystem& jobs) {
   stats_.integrated_froxels = integrate_columns(view_, density_, sun_visibility(), m, knots, jobs, volume_, incremental);
   visibility_saved_ = still_;
   integrated_light_ = m;
+  integrated_light_.light = nullptr;  // borrowed for this frame only
   integrated_knots_ = std::move(knots);
   volume_stale_ = false;
 }

@@ -164,11 +164,13 @@ struct MediumLighting {
   glm::dvec3 camera_position{0.0};
   std::array<glm::vec3, 9> ambient_sh{};
 };
-// The same values (sun_at, a function, is compared through its results: sun_knots).
+// The same values. `light` is not read: it is borrowed for one frame, and
+// its sun_at, a function, is compared through its results (sun_knots, empty
+// without sun_at) by the caller.
 inline bool same_medium_lighting(const MediumLighting& a, const MediumLighting& b) {
   return a.phase == b.phase && a.anisotropy == b.anisotropy && a.sun_direction == b.sun_direction &&
          a.sun_illuminance == b.sun_illuminance && a.camera_position == b.camera_position &&
-         a.ambient_sh == b.ambient_sh && (a.light && a.light->sun_at) == (b.light && b.light->sun_at);
+         a.ambient_sh == b.ambient_sh;
 }
 // The sun's illuminance where integration takes it: it varies slowly (the
 // atmosphere's transmittance with altitude), so per row of columns sun_at
