@@ -13,19 +13,19 @@
 // outside the previous frustum or fog range have no history.
 //
 // Where the sun moved, the history weight is scaled down by the largest
-// light change (light_froxels) in the 3x3 neighbourhood, kept in the same
-// rotating per-column form as the clamp's range.
-//
-// The clamp's 3x3 range is separable: per row, each column's min/max over
-// its vertical neighbours is computed once into a rotating set of three,
-// and a froxel's range combines those of its column and the two beside it
-// (6 reads per slice instead of 9 read-modify-writes of running bounds).
+// light change (light_froxels) in the 3x3 neighbourhood.
 //
 // With the clamp, a froxel whose 3x3 range is one value (the current froxel
-// and its lit neighbours agree: fully lit or fully shadowed air, 95% of a
-// moving valley's froxels) blends to exactly its current value, whatever
-// its history: a moving camera projects and reads history only for the
-// others.
+// and its lit neighbours agree) blends to exactly its current value, whatever
+// its history and light change. Fully lit and fully shadowed air, 95% of a
+// moving valley's froxels, is exactly 1 or 0: bit masks of those values
+// (slice_masks.h), ANDed over the 3x3 columns, pass such froxels over whole.
+// Only the others get their range, and only those whose range is not one
+// value read history (a still camera in place, a moving one projected).
+//
+// Without the clamp every froxel reads history; the light change's 3x3
+// maximum is then separable: per row, each column's maximum over its vertical
+// neighbours is computed once into a rotating set of three.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -34,31 +34,11 @@
 
 #include "fog/froxel_passes.h"
 #include "fog/history_projection.h"
+#include "fog/slice_masks.h"
 
 namespace cr {
 
 namespace {
-
-
-// Per slice j < need: the min and max of the three columns a, b, c (one
-// above the other) over those whose lit slices include j; +inf / -inf where
-// none does. Min and max are exact, so the range is the reference's whatever
-// the grouping (up to a zero's sign, which the clamped blend cannot show).
-void vertical_min_max(const float* a, int lit_a, const float* b, int lit_b, const float* c, int lit_c, int need,
-                      float* __restrict lo, float* __restrict hi) {
-  const int all = std::min({lit_a, lit_b, lit_c, need});
-  for (int j = 0; j < all; ++j) {
-    lo[j] = std::min(std::min(a[j], b[j]), c[j]);
-    hi[j] = std::max(std::max(a[j], b[j]), c[j]);
-  }
-  std::fill(lo + all, lo + std::max(all, need), INFINITY);
-  std::fill(hi + all, hi + std::max(all, need), -INFINITY);
-  for (const auto& [col, lit] : {std::pair{a, lit_a}, std::pair{b, lit_b}, std::pair{c, lit_c}})
-    for (int j = all; j < std::min(lit, need); ++j) {
-      lo[j] = std::min(lo[j], col[j]);
-      hi[j] = std::max(hi[j], col[j]);
-    }
-}
 
 // Per slice j < need: the largest of columns a, b, c (one above the other)
 // over those whose lit slices include j; 0 where none does.
@@ -70,6 +50,40 @@ void vertical_max(const float* a, int lit_a, const float* b, int lit_b, const fl
   for (const auto& [col, lit] : {std::pair{a, lit_a}, std::pair{b, lit_b}, std::pair{c, lit_c}})
     for (int j = all; j < std::min(lit, need); ++j) out[j] = std::max(out[j], col[j]);
 }
+
+// The 3x3 columns around one (clamped at the grid's edges) in its slice
+// plane: where each starts and how many slices it has lit.
+struct Neighbourhood {
+  size_t base[9];
+  int lit[9];
+
+  Neighbourhood(const FroxelView& view, int x, int y) {
+    const FroxelGrid& g = view.grid;
+    const int xs[3] = {std::max(x - 1, 0), x, std::min(x + 1, g.nx() - 1)};
+    const int ys[3] = {std::max(y - 1, 0), y, std::min(y + 1, g.ny() - 1)};
+    for (int i = 0; i < 9; ++i) {
+      const size_t c = size_t(ys[i / 3]) * size_t(g.nx()) + size_t(xs[i % 3]);
+      base[i] = c * size_t(g.nz());
+      lit[i] = view.lit_slices[c];
+    }
+  }
+  // The min and max of `values` at slice j over the columns lit there (the
+  // middle one is; an unlit one counts as it, without a branch). Min and
+  // max are exact, so any grouping gives the same range (up to a zero's
+  // sign, which the clamped blend cannot show).
+  void range(const float* values, int j, float& lo, float& hi) const {
+    const float middle = values[base[4] + size_t(j)];
+    float l = middle, h = middle;
+    for (int i = 0; i < 9; ++i) {
+      const float read = values[base[i] + size_t(j)];  // in the grid, perhaps stale: selected away
+      const float v = j < lit[i] ? read : middle;
+      l = std::min(l, v);
+      h = std::max(h, v);
+    }
+    lo = l;
+    hi = h;
+  }
+};
 
 }  // namespace
 
@@ -99,154 +113,187 @@ ReprojectStats reproject_history(const FroxelView& view, const std::vector<float
   std::vector<float> centers(static_cast<size_t>(nz));
   for (int k = 0; k < nz; ++k) centers[size_t(k)] = g.center(k);
   std::vector<size_t> rejected_per_row(size_t(ny), 0), reads_per_row(size_t(ny), 0);
-  // Per column the slices are contiguous floats, so the clamp and blend run
-  // as flat loops the compiler vectorises.
+  // Per column the slices are contiguous floats, so the blends run as flat
+  // loops the compiler vectorises.
   const float* cur_all = current.data();
   const float* hist_all = history.data();
   float* out_all = out.data();
   const uint16_t* lit_all = view.lit_slices.data();
+  const float* change_all = light_change ? light_change->data() : nullptr;
+  // With the clamp: per column, the slices whose current value is exactly 0
+  // and exactly 1 (slice_masks.h).
+  const int words = mask_words(nz);
+  const size_t per_column = 2 * size_t(words);
+  std::vector<uint64_t> masks(clamp ? g.columns() * per_column : 0);
+  if (clamp)
+    jobs.parallel_for("fog.reproject.masks", g.columns(), 256, [&](size_t begin, size_t end) {
+      for (size_t c = begin; c < end; ++c)
+        zero_one_masks(cur_all + c * size_t(nz), lit_all[c], words, masks.data() + c * per_column);
+    });
   jobs.parallel_for("fog.reproject", size_t(ny), 1, [&](size_t begin, size_t end) {
-    std::vector<float> h(static_cast<size_t>(nz));
-    // Clamp range of three neighbouring columns, rotated along the row.
-    std::vector<float> range_lo(3 * static_cast<size_t>(nz)), range_hi(3 * static_cast<size_t>(nz));
     HistoryProjection::Scratch scratch(nz);
-    // With the clamp, a moving camera's slices whose range is not one value:
-    // their centres, current values and history.
-    const size_t sparse = clamp && !stats.identity ? size_t(nz) : 0;
-    std::vector<int> open(sparse);
-    std::vector<float> open_t(sparse), open_cur(sparse), open_h(sparse);
-    // Light change of three neighbouring columns (vertical maxima), rotated the same way.
-    std::vector<float> change_max(light_change ? 3 * static_cast<size_t>(nz) : 0);
+    // Without the clamp: a column's history, and the light change of three
+    // neighbouring columns (vertical maxima), rotated along the row.
+    std::vector<float> h(clamp ? 0 : static_cast<size_t>(nz));
+    std::vector<float> change_max(light_change && !clamp ? 3 * static_cast<size_t>(nz) : 0);
+    // With the clamp: the row's masks ANDed over the three rows, and a
+    // column's slices whose range is not one value: their slice, range,
+    // centre, current value and history.
+    std::vector<uint64_t> vertical(clamp ? size_t(nx) * per_column : 0);
+    std::vector<int> open(clamp ? static_cast<size_t>(nz) : 0);
+    std::vector<float> open_lo(open.size()), open_hi(open.size()), open_t(open.size()), open_cur(open.size()),
+        open_h(open.size());
     for (int y = int(begin); y < int(end); ++y) {
       // The row's counts, stored once (rows of other jobs share cache lines).
-      size_t reads = 0, rejected_in_row = 0;
+      size_t reads = 0, rejected = 0;
       const int ya = std::max(y - 1, 0), yb = std::min(y + 1, ny - 1);
       const uint16_t* lit_row = lit_all + size_t(y) * nx;
-      // The slices any of xc - 1, xc, xc + 1 produces.
-      auto need_of = [&](int xc) {
-        return int(std::max({lit_row[std::max(xc - 1, 0)], lit_row[xc], lit_row[std::min(xc + 1, nx - 1)]}));
-      };
-      // Range of column xc of this row and its vertical neighbours over the
-      // slices any of x - 1, x, x + 1 produces, into slot xc mod 3.
-      auto vertical_range = [&](int xc) {
-        const int need = need_of(xc);
-        vertical_min_max(cur_all + g.index(xc, ya, 0), lit_all[size_t(ya) * nx + xc],
-                         cur_all + g.index(xc, y, 0), lit_row[xc], cur_all + g.index(xc, yb, 0),
-                         lit_all[size_t(yb) * nx + xc], need, range_lo.data() + size_t(xc % 3) * nz,
-                         range_hi.data() + size_t(xc % 3) * nz);
-      };
-      auto vertical_change = [&](int xc) {
-        const int need = need_of(xc);
-        const float* lc = light_change->data();
-        vertical_max(lc + g.index(xc, ya, 0), lit_all[size_t(ya) * nx + xc], lc + g.index(xc, y, 0), lit_row[xc],
-                     lc + g.index(xc, yb, 0), lit_all[size_t(yb) * nx + xc], need,
-                     change_max.data() + size_t(xc % 3) * nz);
-      };
-      if (clamp) vertical_range(0);
-      if (light_change) vertical_change(0);
-      for (int x = 0; x < nx; ++x) {
-        const size_t c = size_t(y) * nx + x;
-        const int n = lit_row[x];
-        const size_t base = g.index(x, y, 0);
-        const float* cur = cur_all + base;
-        float* dst = out_all + base;
-        // History per slice; where there is none it takes the current value,
-        // which the clamp keeps and the blend returns unchanged.
-        const size_t len = size_t(n);
-        // The clamp's slots of columns x - 1, x, x + 1 (clamped at the edges).
-        const size_t left = size_t(std::max(x - 1, 0) % 3) * nz, mid = size_t(x % 3) * nz,
-                     right = size_t(std::min(x + 1, nx - 1) % 3) * nz;
-        const float* lo = range_lo.data();
-        const float* hi = range_hi.data();
-        // Slice j's clamp range is one value (the current one).
-        auto one_value = [&](size_t j) {
-          return std::min(std::min(lo[left + j], lo[mid + j]), lo[right + j]) ==
-                 std::max(std::max(hi[left + j], hi[mid + j]), hi[right + j]);
-        };
-        if (clamp) {
+      if (clamp) {
+        for (int x = 0; x < nx; ++x) {
+          const uint64_t* a = masks.data() + (size_t(ya) * nx + x) * per_column;
+          const uint64_t* b = masks.data() + (size_t(y) * nx + x) * per_column;
+          const uint64_t* c = masks.data() + (size_t(yb) * nx + x) * per_column;
+          uint64_t* v = vertical.data() + size_t(x) * per_column;
+          for (size_t i = 0; i < per_column; ++i) v[i] = a[i] & b[i] & c[i];
+        }
+        for (int x = 0; x < nx; ++x) {
+          const size_t c = size_t(y) * nx + x;
+          const int n = lit_row[x];
+          const size_t base = g.index(x, y, 0);
+          const float* cur = cur_all + base;
+          float* dst = out_all + base;
+          // A still camera reads history in place, sparsely, which the
+          // hardware prefetcher does not follow: the column two ahead is
+          // requested now.
+          if (x + 2 < nx)
+            for (int j = 0; j < nz; j += 16) {
+              if (stats.identity) __builtin_prefetch(hist_all + base + 2 * size_t(nz) + size_t(j));
+              if (change_all)
+                for (int yy : {ya, y, yb}) __builtin_prefetch(change_all + g.index(x + 2, yy, j));
+            }
+          // A froxel whose range is one value blends to its current value:
+          // cur + (clamped - cur) w with clamped == cur, which is cur + 0
+          // (a zero of either sign becomes +0). Those whose range is not one
+          // value are overwritten below.
+          for (int j = 0; j < n; ++j) dst[j] = cur[j] + 0.0f;
           // Clamp the history to the range of the current frame's 3x3
           // neighbourhood in this slice (TAA-style): neighbours sample other
           // depth strata (column hash), so their range brackets the
           // converged value; history outside it is a ghost (moved shaft,
           // disocclusion) and is cut. HDRP does not clamp. Neighbours count
-          // only where they are lit. The range is the columns' vertical
-          // ranges combined across x - 1, x, x + 1 (clamped at the edges).
-          if (x + 1 < nx) vertical_range(x + 1);  // into the slot x - 2 used
-        }
-        size_t rejected = 0;
-        // The history of the slices: read in place for the same camera (the
-        // slices it lacks take the current value), else gathered into h.
-        const float* hist = h.data();
-        if (stats.identity) {
-          const int m = std::min(n, int(history_view.lit_slices[c]));
-          if (m < n) {
-            std::copy(hist_all + base, hist_all + base + size_t(m), h.data());
-            std::copy(cur + m, cur + n, h.data() + m);
-          } else {
-            hist = hist_all + base;
+          // only where they are lit.
+          const uint64_t* l = vertical.data() + size_t(std::max(x - 1, 0)) * per_column;
+          const uint64_t* m = vertical.data() + size_t(x) * per_column;
+          const uint64_t* r = vertical.data() + size_t(std::min(x + 1, nx - 1)) * per_column;
+          int count = 0;
+          std::optional<Neighbourhood> around;
+          for (int wi = 0; wi < words; ++wi) {
+            const size_t z = size_t(wi), o = size_t(words + wi);
+            const uint64_t agree = (l[z] & m[z] & r[z]) | (l[o] & m[o] & r[o]);
+            for (uint64_t rest = ~agree & low_bits(std::clamp(n - 64 * wi, 0, 64)); rest != 0; rest &= rest - 1) {
+              const int j = 64 * wi + __builtin_ctzll(rest);
+              if (!around) around.emplace(view, x, y);
+              float lo, hi;
+              around->range(cur_all, j, lo, hi);
+              if (lo == hi) continue;
+              open[size_t(count)] = j;
+              open_lo[size_t(count)] = lo;
+              open_hi[size_t(count)] = hi;
+              ++count;
+            }
           }
-          rejected = size_t(n - m);
-          reads += len;
-        } else {
-          const glm::vec3 d = view.directions[c];
-          const glm::vec3 dv(glm::dot(d, hc.right), glm::dot(d, hc.up), glm::dot(d, hc.forward));
-          if (clamp) {
-            // Only the slices whose range is not one value read history; the
-            // others keep the current value, which the clamp would give.
-            // Blocks of 8 slices where all agree (most) are passed over whole.
-            int m = 0;
-            for (int j0 = 0; j0 < n; j0 += 8) {
-              const int e = std::min(j0 + 8, n);
-              int differ = 0;
-              for (int j = j0; j < e; ++j) differ |= int(!one_value(size_t(j)));
-              if (!differ) continue;
-              for (int j = j0; j < e; ++j) {
-                open[size_t(m)] = j;
-                m += !one_value(size_t(j));
-              }
+          if (count == 0) continue;
+          reads += size_t(count);
+          for (int i = 0; i < count; ++i) open_cur[size_t(i)] = cur[open[size_t(i)]];
+          // Their history: in place for the same camera (the slices it
+          // lacks have none), else projected into the history's grid.
+          // Where there is none the current value stands in, which the
+          // clamp keeps and the blend returns unchanged.
+          if (stats.identity) {
+            const int kept = history_view.lit_slices[c];
+            for (int i = 0; i < count; ++i) {
+              const int j = open[size_t(i)];
+              const bool has = j < kept;
+              open_h[size_t(i)] = has ? hist_all[base + size_t(j)] : cur[j];
+              rejected += !has;
             }
-            for (int i = 0; i < m; ++i) {
-              open_t[size_t(i)] = centers[size_t(open[size_t(i)])];
-              open_cur[size_t(i)] = cur[open[size_t(i)]];
-            }
-            projection->project(offset, dv, open_t.data(), m, scratch.fx.data(), scratch.fy.data(),
-                               scratch.fz.data(), scratch.inside.data());
-            rejected = projection->read(scratch, open_cur.data(), m, open_h.data());
-            std::copy(cur, cur + n, h.data());
-            for (int i = 0; i < m; ++i) h[size_t(open[size_t(i)])] = open_h[size_t(i)];
-            reads += size_t(m);
           } else {
+            const glm::vec3 d = view.directions[c];
+            const glm::vec3 dv(glm::dot(d, hc.right), glm::dot(d, hc.up), glm::dot(d, hc.forward));
+            for (int i = 0; i < count; ++i) open_t[size_t(i)] = centers[size_t(open[size_t(i)])];
+            projection->project(offset, dv, open_t.data(), count, scratch.fx.data(), scratch.fy.data(),
+                                scratch.fz.data(), scratch.inside.data());
+            rejected += projection->read(scratch, open_cur.data(), count, open_h.data());
+          }
+          for (int i = 0; i < count; ++i) {
+            const int j = open[size_t(i)];
+            const float now = open_cur[size_t(i)];
+            const float clamped = std::min(std::max(open_h[size_t(i)], open_lo[size_t(i)]), open_hi[size_t(i)]);
+            float v = now + (clamped - now) * w;
+            if (change_all) {
+              // The blend's history share scaled by 1 - the 3x3
+              // neighbourhood's largest light change.
+              float least, most;
+              around->range(change_all, j, least, most);
+              v = now + (v - now) * (1.0f - std::min(most, 1.0f));
+            }
+            dst[j] = v;
+          }
+        }
+      } else {
+        // The slices any of xc - 1, xc, xc + 1 produces.
+        auto need_of = [&](int xc) {
+          return int(std::max({lit_row[std::max(xc - 1, 0)], lit_row[xc], lit_row[std::min(xc + 1, nx - 1)]}));
+        };
+        auto vertical_change = [&](int xc) {
+          vertical_max(change_all + g.index(xc, ya, 0), lit_all[size_t(ya) * nx + xc], change_all + g.index(xc, y, 0),
+                       lit_row[xc], change_all + g.index(xc, yb, 0), lit_all[size_t(yb) * nx + xc], need_of(xc),
+                       change_max.data() + size_t(xc % 3) * nz);
+        };
+        if (light_change) vertical_change(0);
+        for (int x = 0; x < nx; ++x) {
+          const size_t c = size_t(y) * nx + x;
+          const int n = lit_row[x];
+          const size_t base = g.index(x, y, 0);
+          const float* cur = cur_all + base;
+          float* dst = out_all + base;
+          // The history of the slices: read in place for the same camera
+          // (the slices it lacks take the current value), else projected
+          // into h.
+          const float* hist = h.data();
+          if (stats.identity) {
+            const int kept = std::min(n, int(history_view.lit_slices[c]));
+            if (kept < n) {
+              std::copy(hist_all + base, hist_all + base + size_t(kept), h.data());
+              std::copy(cur + kept, cur + n, h.data() + kept);
+            } else {
+              hist = hist_all + base;
+            }
+            rejected += size_t(n - kept);
+          } else {
+            const glm::vec3 d = view.directions[c];
+            const glm::vec3 dv(glm::dot(d, hc.right), glm::dot(d, hc.up), glm::dot(d, hc.forward));
             projection->project(offset, dv, centers.data(), n, scratch.fx.data(), scratch.fy.data(),
-                               scratch.fz.data(), scratch.inside.data());
-            rejected = projection->read(scratch, cur, n, h.data());
-            reads += len;
+                                scratch.fz.data(), scratch.inside.data());
+            rejected += projection->read(scratch, cur, n, h.data());
           }
-        }
-        rejected_in_row += rejected;
-        if (clamp) {
-          for (size_t j = 0; j < len; ++j) {
-            const float l = std::min(std::min(lo[left + j], lo[mid + j]), lo[right + j]);
-            const float u = std::max(std::max(hi[left + j], hi[mid + j]), hi[right + j]);
-            const float clamped = std::min(std::max(hist[j], l), u);
-            dst[j] = cur[j] + (clamped - cur[j]) * w;
-          }
-        } else {
-          for (size_t j = 0; j < len; ++j) dst[j] = cur[j] + (hist[j] - cur[j]) * w;
-        }
-        if (light_change) {
-          // The blend's history share scaled by 1 - the 3x3 neighbourhood's largest light change.
-          if (x + 1 < nx) vertical_change(x + 1);
-          const float* left = change_max.data() + size_t(std::max(x - 1, 0) % 3) * nz;
-          const float* mid = change_max.data() + size_t(x % 3) * nz;
-          const float* right = change_max.data() + size_t(std::min(x + 1, nx - 1) % 3) * nz;
-          for (size_t j = 0; j < len; ++j) {
-            const float m = std::min(std::max(std::max(left[j], mid[j]), right[j]), 1.0f);
-            dst[j] = cur[j] + (dst[j] - cur[j]) * (1.0f - m);
+          reads += size_t(n);
+          for (int j = 0; j < n; ++j) dst[j] = cur[j] + (hist[j] - cur[j]) * w;
+          if (light_change) {
+            // The blend's history share scaled by 1 - the 3x3 neighbourhood's largest light change.
+            if (x + 1 < nx) vertical_change(x + 1);  // into the slot x - 2 used
+            const float* left = change_max.data() + size_t(std::max(x - 1, 0) % 3) * nz;
+            const float* mid = change_max.data() + size_t(x % 3) * nz;
+            const float* right = change_max.data() + size_t(std::min(x + 1, nx - 1) % 3) * nz;
+            for (int j = 0; j < n; ++j) {
+              const float most = std::min(std::max(std::max(left[j], mid[j]), right[j]), 1.0f);
+              dst[j] = cur[j] + (dst[j] - cur[j]) * (1.0f - most);
+            }
           }
         }
       }
       reads_per_row[size_t(y)] = reads;
-      rejected_per_row[size_t(y)] = rejected_in_row;
+      rejected_per_row[size_t(y)] = rejected;
     }
   });
   for (size_t r : rejected_per_row) stats.rejected += r;

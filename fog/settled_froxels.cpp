@@ -9,41 +9,15 @@
 
 #include <algorithm>
 
-#include <immintrin.h>
+#include "fog/slice_masks.h"
 
 namespace cr {
 
-namespace {
-
-// Bit b of the result: whether h[b] == value, for b < count (<= 64).
-uint64_t equal_bits_scalar(const float* h, int count, float value) {
-  uint64_t bits = 0;
-  for (int b = 0; b < count; ++b) bits |= uint64_t(h[b] == value) << b;
-  return bits;
-}
-
-__attribute__((target("avx2"))) uint64_t equal_bits_avx2(const float* h, int count, float value) {
-  const __m256 v = _mm256_set1_ps(value);
-  uint64_t bits = 0;
-  int b = 0;
-  for (; b + 8 <= count; b += 8)
-    bits |= uint64_t(unsigned(_mm256_movemask_ps(_mm256_cmp_ps(_mm256_loadu_ps(h + b), v, _CMP_EQ_OQ)))) << b;
-  for (; b < count; ++b) bits |= uint64_t(h[b] == value) << b;
-  return bits;
-}
-
-// The lowest `count` bits set (count in [0, 64]).
-uint64_t low_bits(int count) { return count >= 64 ? ~uint64_t(0) : (uint64_t(1) << count) - 1; }
-
-}  // namespace
-
 void unsettled_spans(const FroxelView& view, const std::vector<float>& history, JobSystem& jobs,
                      std::vector<uint64_t>& scratch, std::vector<SliceSpan>& spans) {
-  static const bool avx2 = __builtin_cpu_supports("avx2");
-  const auto equal_bits = avx2 ? equal_bits_avx2 : equal_bits_scalar;
   const FroxelGrid& g = view.grid;
   const int nx = g.nx(), ny = g.ny(), nz = g.nz();
-  const int words = (nz + 63) / 64;
+  const int words = mask_words(nz);
   const size_t per_column = 2 * size_t(words);  // the 0 masks, then the 1 masks
   spans.resize(g.columns());
   // Per column: the masks ANDed with their neighbours in k - 1 and k + 1.
@@ -51,14 +25,7 @@ void unsettled_spans(const FroxelView& view, const std::vector<float>& history, 
   jobs.parallel_for("fog.settled.slices", g.columns(), 64, [&](size_t begin, size_t end) {
     std::vector<uint64_t> m(per_column);
     for (size_t c = begin; c < end; ++c) {
-      const int n = view.lit_slices[c];
-      const float* h = history.data() + c * size_t(nz);
-      for (int w = 0; w < words; ++w) {
-        const int lit = std::clamp(n - 64 * w, 0, 64);
-        const uint64_t free = ~low_bits(lit);  // unlit slices and those past the grid
-        m[size_t(w)] = equal_bits(h + 64 * w, lit, 0.0f) | free;
-        m[size_t(words + w)] = equal_bits(h + 64 * w, lit, 1.0f) | free;
-      }
+      zero_one_masks(history.data() + c * size_t(nz), view.lit_slices[c], words, m.data());
       uint64_t* out = scratch.data() + c * per_column;
       for (int cls = 0; cls < 2; ++cls) {
         const uint64_t* a = m.data() + size_t(cls * words);

@@ -1,12 +1,14 @@
 // reproject_history against its definition. The history clamp, froxel by
 // froxel: the history limited to the min/max of the current values in the
 // 3x3 columns around (clamped at the grid's edges), in the same slice, over
-// the neighbours lit there, then blended; same bits, with depth culling
-// cutting columns at random lengths (also at the grid's edges). And for a
-// moving camera, no trilinear read touches a slice the history culled, the
-// history read's eight-lane path gives its one-slice definition's bits, and
-// the clamped blend reads history only where the clamp range is not one
-// value, with the bits of reading it everywhere.
+// the neighbours lit there, then blended, and with a light change the
+// history's share scaled by 1 - the 3x3 maximum change; same bits, with depth
+// culling cutting columns at random lengths (also at the grid's edges), for
+// 24 slices and for 70 (two mask words). History is read only where the
+// clamp range is not one value. And for a moving camera, no trilinear read
+// touches a slice the history culled, the history read's eight-lane path
+// gives its one-slice definition's bits, and the clamped blend has the bits
+// of reading every froxel's history.
 #include <doctest/doctest.h>
 
 #include <cstring>
@@ -24,9 +26,9 @@ struct ClampCase {
   std::vector<float> current, history;
 };
 
-ClampCase random_case(unsigned seed) {
+ClampCase random_case(unsigned seed, int slices_count = 24) {
   JobSystem jobs(1);
-  const FroxelGrid grid(72, 40, 8, 24, 0.1f, 48.0f, 0.75f);
+  const FroxelGrid grid(72, 40, 8, slices_count, 0.1f, 48.0f, 0.75f);
   const Camera cam = Camera::look_at({0, 2, 5}, {1, 1, -10}, 1.0f, 72.0f / 40.0f, 0.1f);
   ClampCase c{make_froxel_view(grid, cam, jobs), {}, {}};
   std::mt19937 rng(seed);
@@ -53,51 +55,108 @@ FroxelView moved_history_view(const ClampCase& c, std::mt19937& rng) {
 // The clamp's definition: the min and max of the current values in the 3x3
 // columns around (x, y) (clamped at the grid's edges) in slice j, over the
 // neighbours lit there; the froxel itself is lit.
-void range_3x3(const ClampCase& c, int x, int y, int j, float& lo, float& hi) {
+void range_3x3(const ClampCase& c, const std::vector<float>& values, int x, int y, int j, float& lo, float& hi) {
   const FroxelGrid& g = c.view.grid;
-  lo = hi = c.current[g.index(x, y, j)];
+  lo = hi = values[g.index(x, y, j)];
   for (int dy = -1; dy <= 1; ++dy)
     for (int dx = -1; dx <= 1; ++dx) {
       const int xn = std::clamp(x + dx, 0, g.nx() - 1), yn = std::clamp(y + dy, 0, g.ny() - 1);
       if (j >= c.view.lit_slices[size_t(yn) * g.nx() + xn]) continue;
-      lo = std::min(lo, c.current[g.index(xn, yn, j)]);
-      hi = std::max(hi, c.current[g.index(xn, yn, j)]);
+      lo = std::min(lo, values[g.index(xn, yn, j)]);
+      hi = std::max(hi, values[g.index(xn, yn, j)]);
     }
+}
+void range_3x3(const ClampCase& c, int x, int y, int j, float& lo, float& hi) {
+  range_3x3(c, c.current, x, y, j, lo, hi);
+}
+
+// The clamped blend of history h at froxel (x, y, j), with the light
+// change's 3x3 maximum scaling the history's share where there is one.
+float clamped_blend(const ClampCase& c, const std::vector<float>* light_change, int x, int y, int j, float h,
+                    float w) {
+  const float cur = c.current[c.view.grid.index(x, y, j)];
+  float lo, hi;
+  range_3x3(c, x, y, j, lo, hi);
+  const float blend = cur + (std::min(std::max(h, lo), hi) - cur) * w;
+  if (!light_change) return blend;
+  float least, most;
+  range_3x3(c, *light_change, x, y, j, least, most);
+  return cur + (blend - cur) * (1.0f - std::min(most, 1.0f));
+}
+
+// Shaft-like current values: blocks of lit (1) and shadowed (0) air with
+// scattered values between, so most 3x3 ranges are one value, some are not.
+void shaft_values(ClampCase& c, std::mt19937& rng) {
+  const FroxelGrid& g = c.view.grid;
+  std::uniform_int_distribution<int> coin(0, 59);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  for (int y = 0; y < g.ny(); ++y)
+    for (int x = 0; x < g.nx(); ++x)
+      for (int k = 0; k < g.nz(); ++k)
+        c.current[g.index(x, y, k)] = coin(rng) == 0 ? unit(rng) : float((x / 6 + y / 5 + k / 7) % 2);
+}
+
+// A light change that is 0 in most froxels and up to 1.5 in the rest.
+std::vector<float> random_light_change(const FroxelGrid& g, std::mt19937& rng) {
+  std::uniform_int_distribution<int> coin(0, 3);
+  std::uniform_real_distribution<float> change(0.0f, 1.5f);
+  std::vector<float> out(g.count());
+  for (auto& v : out) v = coin(rng) == 0 ? change(rng) : 0.0f;
+  return out;
 }
 
 }  // namespace
 
 TEST_CASE("the reprojection clamp matches the per-froxel 3x3 definition bit for bit") {
-  for (unsigned seed = 1; seed <= 4; ++seed) {
-    const ClampCase c = random_case(seed);
-    const FroxelGrid& g = c.view.grid;
-    // Same camera: the history is read in place where it is lit, so the
-    // value before the clamp is known exactly.
-    FroxelView history_view = c.view;
-    std::mt19937 rng(seed + 100);
-    std::uniform_int_distribution<int> slices(0, g.nz());
-    for (auto& n : history_view.lit_slices) n = uint16_t(slices(rng));
-    const float w = 0.857142857f;
-    JobSystem jobs(2);
-    std::vector<float> out;
-    const ReprojectStats stats =
-        reproject_history(c.view, c.current, history_view, c.history, w, true, jobs, out);
-    REQUIRE(stats.identity);
-    size_t mismatches = 0;
-    for (int y = 0; y < g.ny(); ++y)
-      for (int x = 0; x < g.nx(); ++x) {
-        const size_t col = size_t(y) * g.nx() + x;
-        for (int j = 0; j < c.view.lit_slices[col]; ++j) {
-          const float cur = c.current[g.index(x, y, j)];
-          const float hist = j < history_view.lit_slices[col] ? c.history[g.index(x, y, j)] : cur;
-          float lo, hi;
-          range_3x3(c, x, y, j, lo, hi);
-          const float expected = cur + (std::min(std::max(hist, lo), hi) - cur) * w;
-          mismatches += std::memcmp(&expected, &out[g.index(x, y, j)], sizeof(float)) != 0;
-        }
+  for (int slices_count : {24, 70})
+    for (unsigned seed = 1; seed <= 4; ++seed) {
+      CAPTURE(slices_count);
+      CAPTURE(seed);
+      ClampCase c = random_case(seed, slices_count);
+      const FroxelGrid& g = c.view.grid;
+      // Same camera: the history is read in place where it is lit, so the
+      // value before the clamp is known exactly.
+      FroxelView history_view = c.view;
+      std::mt19937 rng(seed + 100);
+      std::uniform_int_distribution<int> slices(0, g.nz());
+      for (auto& n : history_view.lit_slices) n = uint16_t(slices(rng));
+      // Odd seeds: few distinct values (ties, zeros of either sign); even
+      // seeds: shafts of 0 and 1, which the masks pass over, and a light change.
+      std::vector<float> light_change;
+      if (seed % 2 == 0) {
+        shaft_values(c, rng);
+        light_change = random_light_change(g, rng);
       }
-    CHECK(mismatches == 0);
-  }
+      const std::vector<float>* change = light_change.empty() ? nullptr : &light_change;
+      const float w = 0.857142857f;
+      JobSystem jobs(2);
+      std::vector<float> out;
+      const ReprojectStats stats =
+          reproject_history(c.view, c.current, history_view, c.history, w, true, jobs, out, change);
+      REQUIRE(stats.identity);
+      size_t mismatches = 0, reads = 0, rejected = 0, lit = 0;
+      for (int y = 0; y < g.ny(); ++y)
+        for (int x = 0; x < g.nx(); ++x) {
+          const size_t col = size_t(y) * g.nx() + x;
+          for (int j = 0; j < c.view.lit_slices[col]; ++j) {
+            const float cur = c.current[g.index(x, y, j)];
+            const bool has = j < history_view.lit_slices[col];
+            const float expected = clamped_blend(c, change, x, y, j, has ? c.history[g.index(x, y, j)] : cur, w);
+            mismatches += std::memcmp(&expected, &out[g.index(x, y, j)], sizeof(float)) != 0;
+            // History is looked up only where the range is not one value.
+            float lo, hi;
+            range_3x3(c, x, y, j, lo, hi);
+            reads += lo != hi;
+            rejected += lo != hi && !has;
+          }
+          lit += c.view.lit_slices[col];
+        }
+      CHECK(mismatches == 0);
+      CHECK(stats.reads == reads);
+      CHECK(stats.rejected == rejected);
+      CHECK(rejected > 0);
+      if (change) CHECK(reads < lit / 2);  // shafts: most ranges are one value
+    }
 }
 
 TEST_CASE("a moving camera's history reads never touch a slice the history culled") {
@@ -169,62 +228,63 @@ TEST_CASE("the moving-camera history read gives its one-slice definition's bits"
 }
 
 TEST_CASE("a moving camera's clamped reprojection reads history only where the 3x3 range is not one value") {
-  for (unsigned seed = 1; seed <= 4; ++seed) {
-    ClampCase c = random_case(seed);
-    const FroxelGrid& g = c.view.grid;
-    std::mt19937 rng(seed + 400);
-    const FroxelView history_view = moved_history_view(c, rng);
-    std::uniform_int_distribution<int> coin(0, 59);
-    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
-    for (auto& v : c.history) v = unit(rng);
-    // Blocks of lit (1) and shadowed (0) air with scattered values between,
-    // as shafts give: most 3x3 ranges are one value, some are not.
-    for (int y = 0; y < g.ny(); ++y)
-      for (int x = 0; x < g.nx(); ++x)
-        for (int k = 0; k < g.nz(); ++k)
-          c.current[g.index(x, y, k)] = coin(rng) == 0 ? unit(rng) : float((x / 6 + y / 5 + k / 7) % 2);
-    const float w = 0.857142857f;
-    JobSystem jobs(2);
-    std::vector<float> out;
-    const ReprojectStats stats = reproject_history(c.view, c.current, history_view, c.history, w, true, jobs, out);
-    REQUIRE_FALSE(stats.identity);
-    // The definition: every lit froxel's history projected and read, clamped
-    // to its 3x3 range, blended.
-    const HistoryProjection projection(history_view, c.history);
-    HistoryProjection::Scratch scratch(g.nz());
-    const Camera& hc = history_view.camera;
-    const glm::vec3 offset_world(c.view.camera.position - hc.position);
-    const glm::vec3 offset(glm::dot(offset_world, hc.right), glm::dot(offset_world, hc.up),
-                           glm::dot(offset_world, hc.forward));
-    std::vector<float> centers(size_t(g.nz())), h(size_t(g.nz()));
-    for (int k = 0; k < g.nz(); ++k) centers[size_t(k)] = g.center(k);
-    size_t lit = 0, mismatches = 0, rejected = 0;
-    for (int y = 0; y < g.ny(); ++y)
-      for (int x = 0; x < g.nx(); ++x) {
-        const size_t col = size_t(y) * g.nx() + x;
-        const int n = c.view.lit_slices[col];
-        const glm::vec3 d = c.view.directions[col];
-        const glm::vec3 dv(glm::dot(d, hc.right), glm::dot(d, hc.up), glm::dot(d, hc.forward));
-        projection.project(offset, dv, centers.data(), n, scratch.fx.data(), scratch.fy.data(), scratch.fz.data(),
-                           scratch.inside.data());
-        const float* cur = c.current.data() + g.index(x, y, 0);
-        for (int j = 0; j < n; ++j) {
-          const size_t no_history = projection.read_slices(scratch, cur, j, j + 1, h.data());
-          float lo, hi;
-          range_3x3(c, x, y, j, lo, hi);
-          // Where the range is one value the history is not needed: its
-          // rejection is not counted.
-          if (lo != hi) rejected += no_history;
-          const float expected = cur[j] + (std::min(std::max(h[size_t(j)], lo), hi) - cur[j]) * w;
-          mismatches += std::memcmp(&expected, &out[g.index(x, y, j)], sizeof(float)) != 0;
+  for (int slices_count : {24, 70})
+    for (unsigned seed = 1; seed <= 4; ++seed) {
+      CAPTURE(slices_count);
+      CAPTURE(seed);
+      ClampCase c = random_case(seed, slices_count);
+      const FroxelGrid& g = c.view.grid;
+      std::mt19937 rng(seed + 400);
+      const FroxelView history_view = moved_history_view(c, rng);
+      std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+      for (auto& v : c.history) v = unit(rng);
+      shaft_values(c, rng);
+      // Even seeds: the sun moved too.
+      const std::vector<float> light_change = seed % 2 == 0 ? random_light_change(g, rng) : std::vector<float>{};
+      const std::vector<float>* change = light_change.empty() ? nullptr : &light_change;
+      const float w = 0.857142857f;
+      JobSystem jobs(2);
+      std::vector<float> out;
+      const ReprojectStats stats =
+          reproject_history(c.view, c.current, history_view, c.history, w, true, jobs, out, change);
+      REQUIRE_FALSE(stats.identity);
+      // The definition: every lit froxel's history projected and read, clamped
+      // to its 3x3 range, blended.
+      const HistoryProjection projection(history_view, c.history);
+      HistoryProjection::Scratch scratch(g.nz());
+      const Camera& hc = history_view.camera;
+      const glm::vec3 offset_world(c.view.camera.position - hc.position);
+      const glm::vec3 offset(glm::dot(offset_world, hc.right), glm::dot(offset_world, hc.up),
+                             glm::dot(offset_world, hc.forward));
+      std::vector<float> centers(size_t(g.nz())), h(size_t(g.nz()));
+      for (int k = 0; k < g.nz(); ++k) centers[size_t(k)] = g.center(k);
+      size_t lit = 0, mismatches = 0, rejected = 0;
+      for (int y = 0; y < g.ny(); ++y)
+        for (int x = 0; x < g.nx(); ++x) {
+          const size_t col = size_t(y) * g.nx() + x;
+          const int n = c.view.lit_slices[col];
+          const glm::vec3 d = c.view.directions[col];
+          const glm::vec3 dv(glm::dot(d, hc.right), glm::dot(d, hc.up), glm::dot(d, hc.forward));
+          projection.project(offset, dv, centers.data(), n, scratch.fx.data(), scratch.fy.data(), scratch.fz.data(),
+                             scratch.inside.data());
+          const float* cur = c.current.data() + g.index(x, y, 0);
+          for (int j = 0; j < n; ++j) {
+            const size_t no_history = projection.read_slices(scratch, cur, j, j + 1, h.data());
+            float lo, hi;
+            range_3x3(c, x, y, j, lo, hi);
+            // Where the range is one value the history is not needed: its
+            // rejection is not counted.
+            if (lo != hi) rejected += no_history;
+            const float expected = clamped_blend(c, change, x, y, j, h[size_t(j)], w);
+            mismatches += std::memcmp(&expected, &out[g.index(x, y, j)], sizeof(float)) != 0;
+          }
+          lit += size_t(n);
         }
-        lit += size_t(n);
-      }
-    CHECK(mismatches == 0);
-    // Most froxels' ranges are one value: their history is never looked up.
-    CHECK(stats.reads > lit / 10);
-    CHECK(stats.reads < lit / 2);
-    CHECK(stats.rejected == rejected);
-    CHECK(rejected > 0);
-  }
+      CHECK(mismatches == 0);
+      // Most froxels' ranges are one value: their history is never looked up.
+      CHECK(stats.reads > lit / 10);
+      CHECK(stats.reads < lit / 2);
+      CHECK(stats.rejected == rejected);
+      CHECK(rejected > 0);
+    }
 }

@@ -1,0 +1,41 @@
+#include "fog/slice_masks.h"
+
+#include <algorithm>
+
+#include <immintrin.h>
+
+namespace cr {
+
+namespace {
+
+// Bit b of the result: whether h[b] == value, for b < count (<= 64).
+uint64_t equal_bits_scalar(const float* h, int count, float value) {
+  uint64_t bits = 0;
+  for (int b = 0; b < count; ++b) bits |= uint64_t(h[b] == value) << b;
+  return bits;
+}
+
+__attribute__((target("avx2"))) uint64_t equal_bits_avx2(const float* h, int count, float value) {
+  const __m256 v = _mm256_set1_ps(value);
+  uint64_t bits = 0;
+  int b = 0;
+  for (; b + 8 <= count; b += 8)
+    bits |= uint64_t(unsigned(_mm256_movemask_ps(_mm256_cmp_ps(_mm256_loadu_ps(h + b), v, _CMP_EQ_OQ)))) << b;
+  for (; b < count; ++b) bits |= uint64_t(h[b] == value) << b;
+  return bits;
+}
+
+}  // namespace
+
+void zero_one_masks(const float* values, int lit, int words, uint64_t* out) {
+  static const bool avx2 = __builtin_cpu_supports("avx2");
+  const auto equal_bits = avx2 ? equal_bits_avx2 : equal_bits_scalar;
+  for (int w = 0; w < words; ++w) {
+    const int count = std::clamp(lit - 64 * w, 0, 64);
+    const uint64_t free = ~low_bits(count);
+    out[w] = equal_bits(values + 64 * w, count, 0.0f) | free;
+    out[words + w] = equal_bits(values + 64 * w, count, 1.0f) | free;
+  }
+}
+
+}  // namespace cr
