@@ -148,23 +148,27 @@ ReprojectStats reproject_history(const FroxelView& view, const std::vector<float
       size_t reads = 0, rejected = 0;
       const int ya = std::max(y - 1, 0), yb = std::min(y + 1, ny - 1);
       const uint16_t* lit_row = lit_all + size_t(y) * nx;
-      if (clamp) {
-        for (int x = 0; x < nx; ++x) {
-          const uint64_t* a = masks.data() + (size_t(ya) * nx + x) * per_column;
-          const uint64_t* b = masks.data() + (size_t(y) * nx + x) * per_column;
-          const uint64_t* c = masks.data() + (size_t(yb) * nx + x) * per_column;
-          uint64_t* v = vertical.data() + size_t(x) * per_column;
-          for (size_t i = 0; i < per_column; ++i) v[i] = a[i] & b[i] & c[i];
-        }
-        for (int x = 0; x < nx; ++x) {
-          const size_t c = size_t(y) * nx + x;
-          const int n = lit_row[x];
-          const size_t base = g.index(x, y, 0);
-          const float* cur = cur_all + base;
-          float* dst = out_all + base;
+      // The slices any of xc - 1, xc, xc + 1 produces.
+      auto need_of = [&](int xc) {
+        return int(std::max({lit_row[std::max(xc - 1, 0)], lit_row[xc], lit_row[std::min(xc + 1, nx - 1)]}));
+      };
+      auto vertical_change = [&](int xc) {
+        vertical_max(change_all + g.index(xc, ya, 0), lit_all[size_t(ya) * nx + xc], change_all + g.index(xc, y, 0),
+                     lit_row[xc], change_all + g.index(xc, yb, 0), lit_all[size_t(yb) * nx + xc], need_of(xc),
+                     change_max.data() + size_t(xc % 3) * nz);
+      };
+      if (clamp) and_rows(masks.data(), nx, ny, y, words, vertical.data());
+      else if (light_change) vertical_change(0);
+      for (int x = 0; x < nx; ++x) {
+        const size_t c = size_t(y) * nx + x;
+        const int n = lit_row[x];
+        const size_t base = g.index(x, y, 0);
+        const float* cur = cur_all + base;
+        float* dst = out_all + base;
+        if (clamp) {
           // A still camera reads history in place, sparsely, which the
           // hardware prefetcher does not follow: the column two ahead is
-          // requested now.
+          // requested now, and so is its light change.
           if (x + 2 < nx)
             for (int j = 0; j < nz; j += 16) {
               if (stats.identity) __builtin_prefetch(hist_all + base + 2 * size_t(nz) + size_t(j));
@@ -182,15 +186,10 @@ ReprojectStats reproject_history(const FroxelView& view, const std::vector<float
           // converged value; history outside it is a ghost (moved shaft,
           // disocclusion) and is cut. HDRP does not clamp. Neighbours count
           // only where they are lit.
-          const uint64_t* l = vertical.data() + size_t(std::max(x - 1, 0)) * per_column;
-          const uint64_t* m = vertical.data() + size_t(x) * per_column;
-          const uint64_t* r = vertical.data() + size_t(std::min(x + 1, nx - 1)) * per_column;
           int count = 0;
           std::optional<Neighbourhood> around;
-          for (int wi = 0; wi < words; ++wi) {
-            const size_t z = size_t(wi), o = size_t(words + wi);
-            const uint64_t agree = (l[z] & m[z] & r[z]) | (l[o] & m[o] & r[o]);
-            for (uint64_t rest = ~agree & low_bits(std::clamp(n - 64 * wi, 0, 64)); rest != 0; rest &= rest - 1) {
+          for (int wi = 0; wi < words; ++wi)
+            for (uint64_t rest = mixed_bits(vertical.data(), nx, x, words, wi, n); rest != 0; rest &= rest - 1) {
               const int j = 64 * wi + __builtin_ctzll(rest);
               if (!around) around.emplace(view, x, y);
               float lo, hi;
@@ -201,7 +200,6 @@ ReprojectStats reproject_history(const FroxelView& view, const std::vector<float
               open_hi[size_t(count)] = hi;
               ++count;
             }
-          }
           if (count == 0) continue;
           reads += size_t(count);
           for (int i = 0; i < count; ++i) open_cur[size_t(i)] = cur[open[size_t(i)]];
@@ -239,56 +237,39 @@ ReprojectStats reproject_history(const FroxelView& view, const std::vector<float
             }
             dst[j] = v;
           }
+          continue;
         }
-      } else {
-        // The slices any of xc - 1, xc, xc + 1 produces.
-        auto need_of = [&](int xc) {
-          return int(std::max({lit_row[std::max(xc - 1, 0)], lit_row[xc], lit_row[std::min(xc + 1, nx - 1)]}));
-        };
-        auto vertical_change = [&](int xc) {
-          vertical_max(change_all + g.index(xc, ya, 0), lit_all[size_t(ya) * nx + xc], change_all + g.index(xc, y, 0),
-                       lit_row[xc], change_all + g.index(xc, yb, 0), lit_all[size_t(yb) * nx + xc], need_of(xc),
-                       change_max.data() + size_t(xc % 3) * nz);
-        };
-        if (light_change) vertical_change(0);
-        for (int x = 0; x < nx; ++x) {
-          const size_t c = size_t(y) * nx + x;
-          const int n = lit_row[x];
-          const size_t base = g.index(x, y, 0);
-          const float* cur = cur_all + base;
-          float* dst = out_all + base;
-          // The history of the slices: read in place for the same camera
-          // (the slices it lacks take the current value), else projected
-          // into h.
-          const float* hist = h.data();
-          if (stats.identity) {
-            const int kept = std::min(n, int(history_view.lit_slices[c]));
-            if (kept < n) {
-              std::copy(hist_all + base, hist_all + base + size_t(kept), h.data());
-              std::copy(cur + kept, cur + n, h.data() + kept);
-            } else {
-              hist = hist_all + base;
-            }
-            rejected += size_t(n - kept);
+        // Without the clamp, the history of every slice: read in place for
+        // the same camera (the slices it lacks take the current value), else
+        // projected into h.
+        const float* hist = h.data();
+        if (stats.identity) {
+          const int kept = std::min(n, int(history_view.lit_slices[c]));
+          if (kept < n) {
+            std::copy(hist_all + base, hist_all + base + size_t(kept), h.data());
+            std::copy(cur + kept, cur + n, h.data() + kept);
           } else {
-            const glm::vec3 d = view.directions[c];
-            const glm::vec3 dv(glm::dot(d, hc.right), glm::dot(d, hc.up), glm::dot(d, hc.forward));
-            projection->project(offset, dv, centers.data(), n, scratch.fx.data(), scratch.fy.data(),
-                                scratch.fz.data(), scratch.inside.data());
-            rejected += projection->read(scratch, cur, n, h.data());
+            hist = hist_all + base;
           }
-          reads += size_t(n);
-          for (int j = 0; j < n; ++j) dst[j] = cur[j] + (hist[j] - cur[j]) * w;
-          if (light_change) {
-            // The blend's history share scaled by 1 - the 3x3 neighbourhood's largest light change.
-            if (x + 1 < nx) vertical_change(x + 1);  // into the slot x - 2 used
-            const float* left = change_max.data() + size_t(std::max(x - 1, 0) % 3) * nz;
-            const float* mid = change_max.data() + size_t(x % 3) * nz;
-            const float* right = change_max.data() + size_t(std::min(x + 1, nx - 1) % 3) * nz;
-            for (int j = 0; j < n; ++j) {
-              const float most = std::min(std::max(std::max(left[j], mid[j]), right[j]), 1.0f);
-              dst[j] = cur[j] + (dst[j] - cur[j]) * (1.0f - most);
-            }
+          rejected += size_t(n - kept);
+        } else {
+          const glm::vec3 d = view.directions[c];
+          const glm::vec3 dv(glm::dot(d, hc.right), glm::dot(d, hc.up), glm::dot(d, hc.forward));
+          projection->project(offset, dv, centers.data(), n, scratch.fx.data(), scratch.fy.data(),
+                              scratch.fz.data(), scratch.inside.data());
+          rejected += projection->read(scratch, cur, n, h.data());
+        }
+        reads += size_t(n);
+        for (int j = 0; j < n; ++j) dst[j] = cur[j] + (hist[j] - cur[j]) * w;
+        if (light_change) {
+          // The blend's history share scaled by 1 - the 3x3 neighbourhood's largest light change.
+          if (x + 1 < nx) vertical_change(x + 1);  // into the slot x - 2 used
+          const float* left = change_max.data() + size_t(std::max(x - 1, 0) % 3) * nz;
+          const float* mid = change_max.data() + size_t(x % 3) * nz;
+          const float* right = change_max.data() + size_t(std::min(x + 1, nx - 1) % 3) * nz;
+          for (int j = 0; j < n; ++j) {
+            const float most = std::min(std::max(std::max(left[j], mid[j]), right[j]), 1.0f);
+            dst[j] = cur[j] + (dst[j] - cur[j]) * (1.0f - most);
           }
         }
       }

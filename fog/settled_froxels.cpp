@@ -40,24 +40,12 @@ void unsettled_spans(const FroxelView& view, const std::vector<float>& history, 
   jobs.parallel_for("fog.settled.columns", size_t(ny), 1, [&](size_t begin, size_t end) {
     std::vector<uint64_t> vertical(size_t(nx) * per_column);
     for (int y = int(begin); y < int(end); ++y) {
-      const int ya = std::max(y - 1, 0), yb = std::min(y + 1, ny - 1);
+      and_rows(scratch.data(), nx, ny, y, words, vertical.data());
       for (int x = 0; x < nx; ++x) {
-        const uint64_t* a = scratch.data() + (size_t(ya) * nx + x) * per_column;
-        const uint64_t* b = scratch.data() + (size_t(y) * nx + x) * per_column;
-        const uint64_t* c = scratch.data() + (size_t(yb) * nx + x) * per_column;
-        uint64_t* v = vertical.data() + size_t(x) * per_column;
-        for (size_t i = 0; i < per_column; ++i) v[i] = a[i] & b[i] & c[i];
-      }
-      for (int x = 0; x < nx; ++x) {
-        const uint64_t* l = vertical.data() + size_t(std::max(x - 1, 0)) * per_column;
-        const uint64_t* m = vertical.data() + size_t(x) * per_column;
-        const uint64_t* r = vertical.data() + size_t(std::min(x + 1, nx - 1)) * per_column;
         const int n = view.lit_slices[size_t(y) * nx + x];
         int first = -1, last = -1;
         for (int w = 0; w < words; ++w) {
-          const size_t z = size_t(w), o = size_t(words + w);
-          const uint64_t settled = (l[z] & m[z] & r[z]) | (l[o] & m[o] & r[o]);
-          const uint64_t open = ~settled & low_bits(std::clamp(n - 64 * w, 0, 64));
+          const uint64_t open = mixed_bits(vertical.data(), nx, x, words, w, n);
           if (!open) continue;
           if (first < 0) first = 64 * w + __builtin_ctzll(open);
           last = 64 * w + 63 - __builtin_clzll(open);

@@ -38,4 +38,16 @@ void zero_one_masks(const float* values, int lit, int words, uint64_t* out) {
   }
 }
 
+void and_rows(const uint64_t* masks, int nx, int ny, int y, int words, uint64_t* vertical) {
+  const size_t per_column = 2 * size_t(words);
+  const int ya = std::max(y - 1, 0), yb = std::min(y + 1, ny - 1);
+  for (int x = 0; x < nx; ++x) {
+    const uint64_t* a = masks + (size_t(ya) * nx + x) * per_column;
+    const uint64_t* b = masks + (size_t(y) * nx + x) * per_column;
+    const uint64_t* c = masks + (size_t(yb) * nx + x) * per_column;
+    uint64_t* v = vertical + size_t(x) * per_column;
+    for (size_t i = 0; i < per_column; ++i) v[i] = a[i] & b[i] & c[i];
+  }
+}
+
 }  // namespace cr

@@ -96,6 +96,14 @@ void shaft_values(ClampCase& c, std::mt19937& rng) {
         c.current[g.index(x, y, k)] = coin(rng) == 0 ? unit(rng) : float((x / 6 + y / 5 + k / 7) % 2);
 }
 
+// reproject_history with the clamp and the profile's default weight, on two threads.
+constexpr float kWeight = 0.857142857f;
+ReprojectStats reproject_clamped(const ClampCase& c, const FroxelView& history_view,
+                                 const std::vector<float>* light_change, std::vector<float>& out) {
+  JobSystem jobs(2);
+  return reproject_history(c.view, c.current, history_view, c.history, kWeight, true, jobs, out, light_change);
+}
+
 // A light change that is 0 in most froxels and up to 1.5 in the rest.
 std::vector<float> random_light_change(const FroxelGrid& g, std::mt19937& rng) {
   std::uniform_int_distribution<int> coin(0, 3);
@@ -128,11 +136,9 @@ TEST_CASE("the reprojection clamp matches the per-froxel 3x3 definition bit for 
         light_change = random_light_change(g, rng);
       }
       const std::vector<float>* change = light_change.empty() ? nullptr : &light_change;
-      const float w = 0.857142857f;
-      JobSystem jobs(2);
+      const float w = kWeight;
       std::vector<float> out;
-      const ReprojectStats stats =
-          reproject_history(c.view, c.current, history_view, c.history, w, true, jobs, out, change);
+      const ReprojectStats stats = reproject_clamped(c, history_view, change, out);
       REQUIRE(stats.identity);
       size_t mismatches = 0, reads = 0, rejected = 0, lit = 0;
       for (int y = 0; y < g.ny(); ++y)
@@ -242,11 +248,9 @@ TEST_CASE("a moving camera's clamped reprojection reads history only where the 3
       // Even seeds: the sun moved too.
       const std::vector<float> light_change = seed % 2 == 0 ? random_light_change(g, rng) : std::vector<float>{};
       const std::vector<float>* change = light_change.empty() ? nullptr : &light_change;
-      const float w = 0.857142857f;
-      JobSystem jobs(2);
+      const float w = kWeight;
       std::vector<float> out;
-      const ReprojectStats stats =
-          reproject_history(c.view, c.current, history_view, c.history, w, true, jobs, out, change);
+      const ReprojectStats stats = reproject_clamped(c, history_view, change, out);
       REQUIRE_FALSE(stats.identity);
       // The definition: every lit froxel's history projected and read, clamped
       // to its 3x3 range, blended.
