@@ -40,6 +40,26 @@ namespace cr {
 
 namespace {
 
+// Per slice j < need: the min and max of the three columns a, b, c (one
+// above the other) over those whose lit slices include j; +inf / -inf where
+// none does. Min and max are exact, so the range is the reference's whatever
+// the grouping (up to a zero's sign, which the clamped blend cannot show).
+void vertical_min_max(const float* a, int lit_a, const float* b, int lit_b, const float* c, int lit_c, int need,
+                      float* __restrict lo, float* __restrict hi) {
+  const int all = std::min({lit_a, lit_b, lit_c, need});
+  for (int j = 0; j < all; ++j) {
+    lo[j] = std::min(std::min(a[j], b[j]), c[j]);
+    hi[j] = std::max(std::max(a[j], b[j]), c[j]);
+  }
+  std::fill(lo + all, lo + std::max(all, need), INFINITY);
+  std::fill(hi + all, hi + std::max(all, need), -INFINITY);
+  for (const auto& [col, lit] : {std::pair{a, lit_a}, std::pair{b, lit_b}, std::pair{c, lit_c}})
+    for (int j = all; j < std::min(lit, need); ++j) {
+      lo[j] = std::min(lo[j], col[j]);
+      hi[j] = std::max(hi[j], col[j]);
+    }
+}
+
 // Per slice j < need: the largest of columns a, b, c (one above the other)
 // over those whose lit slices include j; 0 where none does.
 void vertical_max(const float* a, int lit_a, const float* b, int lit_b, const float* c, int lit_c, int need,
@@ -120,27 +140,31 @@ ReprojectStats reproject_history(const FroxelView& view, const std::vector<float
   float* out_all = out.data();
   const uint16_t* lit_all = view.lit_slices.data();
   const float* change_all = light_change ? light_change->data() : nullptr;
-  // With the clamp: per column, the slices whose current value is exactly 0
-  // and exactly 1 (slice_masks.h).
+  // A moving camera with the clamp reads history only where the range is
+  // not one value: per column, the slices whose current value is exactly 0
+  // and exactly 1 (slice_masks.h) find the others.
+  const bool sparse = clamp && !stats.identity;
   const int words = mask_words(nz);
   const size_t per_column = 2 * size_t(words);
-  std::vector<uint64_t> masks(clamp ? g.columns() * per_column : 0);
-  if (clamp)
+  std::vector<uint64_t> masks(sparse ? g.columns() * per_column : 0);
+  if (sparse)
     jobs.parallel_for("fog.reproject.masks", g.columns(), 256, [&](size_t begin, size_t end) {
       for (size_t c = begin; c < end; ++c)
         zero_one_masks(cur_all + c * size_t(nz), lit_all[c], words, masks.data() + c * per_column);
     });
   jobs.parallel_for("fog.reproject", size_t(ny), 1, [&](size_t begin, size_t end) {
     HistoryProjection::Scratch scratch(nz);
-    // Without the clamp: a column's history, and the light change of three
-    // neighbouring columns (vertical maxima), rotated along the row.
-    std::vector<float> h(clamp ? 0 : static_cast<size_t>(nz));
-    std::vector<float> change_max(light_change && !clamp ? 3 * static_cast<size_t>(nz) : 0);
-    // With the clamp: the row's masks ANDed over the three rows, and a
-    // column's slices whose range is not one value: their slice, range,
-    // centre, current value and history.
-    std::vector<uint64_t> vertical(clamp ? size_t(nx) * per_column : 0);
-    std::vector<int> open(clamp ? static_cast<size_t>(nz) : 0);
+    // Streamed (every froxel's history): a column's history, and the clamp
+    // range and light change of three neighbouring columns (vertical
+    // minima, maxima), rotated along the row.
+    std::vector<float> h(sparse ? 0 : static_cast<size_t>(nz));
+    std::vector<float> range_lo(clamp && !sparse ? 3 * static_cast<size_t>(nz) : 0), range_hi(range_lo.size());
+    std::vector<float> change_max(light_change && !sparse ? 3 * static_cast<size_t>(nz) : 0);
+    // Sparse: the row's masks ANDed over the three rows, and a column's
+    // slices whose range is not one value: their slice, range, centre,
+    // current value and history.
+    std::vector<uint64_t> vertical(sparse ? size_t(nx) * per_column : 0);
+    std::vector<int> open(sparse ? static_cast<size_t>(nz) : 0);
     std::vector<float> open_lo(open.size()), open_hi(open.size()), open_t(open.size()), open_cur(open.size()),
         open_h(open.size());
     for (int y = int(begin); y < int(end); ++y) {
@@ -152,40 +176,47 @@ ReprojectStats reproject_history(const FroxelView& view, const std::vector<float
       auto need_of = [&](int xc) {
         return int(std::max({lit_row[std::max(xc - 1, 0)], lit_row[xc], lit_row[std::min(xc + 1, nx - 1)]}));
       };
+      // Range of column xc of this row and its vertical neighbours over the
+      // slices any of xc - 1, xc, xc + 1 produces, into slot xc mod 3.
+      auto vertical_range = [&](int xc) {
+        vertical_min_max(cur_all + g.index(xc, ya, 0), lit_all[size_t(ya) * nx + xc], cur_all + g.index(xc, y, 0),
+                         lit_row[xc], cur_all + g.index(xc, yb, 0), lit_all[size_t(yb) * nx + xc], need_of(xc),
+                         range_lo.data() + size_t(xc % 3) * nz, range_hi.data() + size_t(xc % 3) * nz);
+      };
       auto vertical_change = [&](int xc) {
         vertical_max(change_all + g.index(xc, ya, 0), lit_all[size_t(ya) * nx + xc], change_all + g.index(xc, y, 0),
                      lit_row[xc], change_all + g.index(xc, yb, 0), lit_all[size_t(yb) * nx + xc], need_of(xc),
                      change_max.data() + size_t(xc % 3) * nz);
       };
-      if (clamp) and_rows(masks.data(), nx, ny, y, words, vertical.data());
-      else if (light_change) vertical_change(0);
+      if (sparse) {
+        and_rows(masks.data(), nx, ny, y, words, vertical.data());
+      } else {
+        if (clamp) vertical_range(0);
+        if (light_change) vertical_change(0);
+      }
       for (int x = 0; x < nx; ++x) {
         const size_t c = size_t(y) * nx + x;
         const int n = lit_row[x];
         const size_t base = g.index(x, y, 0);
         const float* cur = cur_all + base;
         float* dst = out_all + base;
-        if (clamp) {
-          // A still camera reads history in place, sparsely, which the
-          // hardware prefetcher does not follow: the column two ahead is
-          // requested now, and so is its light change.
-          if (x + 2 < nx)
-            for (int j = 0; j < nz; j += 16) {
-              if (stats.identity) __builtin_prefetch(hist_all + base + 2 * size_t(nz) + size_t(j));
-              if (change_all)
-                for (int yy : {ya, y, yb}) __builtin_prefetch(change_all + g.index(x + 2, yy, j));
-            }
+        // Clamp the history to the range of the current frame's 3x3
+        // neighbourhood in this slice (TAA-style): neighbours sample other
+        // depth strata (column hash), so their range brackets the converged
+        // value; history outside it is a ghost (moved shaft, disocclusion)
+        // and is cut. HDRP does not clamp. Neighbours count only where they
+        // are lit.
+        if (sparse) {
+          // The light change is read sparsely, which the hardware prefetcher
+          // does not follow: the column two ahead is requested now.
+          if (change_all && x + 2 < nx)
+            for (int j = 0; j < nz; j += 16)
+              for (int yy : {ya, y, yb}) __builtin_prefetch(change_all + g.index(x + 2, yy, j));
           // A froxel whose range is one value blends to its current value:
           // cur + (clamped - cur) w with clamped == cur, which is cur + 0
           // (a zero of either sign becomes +0). Those whose range is not one
           // value are overwritten below.
           for (int j = 0; j < n; ++j) dst[j] = cur[j] + 0.0f;
-          // Clamp the history to the range of the current frame's 3x3
-          // neighbourhood in this slice (TAA-style): neighbours sample other
-          // depth strata (column hash), so their range brackets the
-          // converged value; history outside it is a ghost (moved shaft,
-          // disocclusion) and is cut. HDRP does not clamp. Neighbours count
-          // only where they are lit.
           int count = 0;
           std::optional<Neighbourhood> around;
           for (int wi = 0; wi < words; ++wi)
@@ -202,27 +233,17 @@ ReprojectStats reproject_history(const FroxelView& view, const std::vector<float
             }
           if (count == 0) continue;
           reads += size_t(count);
-          for (int i = 0; i < count; ++i) open_cur[size_t(i)] = cur[open[size_t(i)]];
-          // Their history: in place for the same camera (the slices it
-          // lacks have none), else projected into the history's grid.
-          // Where there is none the current value stands in, which the
-          // clamp keeps and the blend returns unchanged.
-          if (stats.identity) {
-            const int kept = history_view.lit_slices[c];
-            for (int i = 0; i < count; ++i) {
-              const int j = open[size_t(i)];
-              const bool has = j < kept;
-              open_h[size_t(i)] = has ? hist_all[base + size_t(j)] : cur[j];
-              rejected += !has;
-            }
-          } else {
-            const glm::vec3 d = view.directions[c];
-            const glm::vec3 dv(glm::dot(d, hc.right), glm::dot(d, hc.up), glm::dot(d, hc.forward));
-            for (int i = 0; i < count; ++i) open_t[size_t(i)] = centers[size_t(open[size_t(i)])];
-            projection->project(offset, dv, open_t.data(), count, scratch.fx.data(), scratch.fy.data(),
-                                scratch.fz.data(), scratch.inside.data());
-            rejected += projection->read(scratch, open_cur.data(), count, open_h.data());
+          // Their history, projected into the history's grid (where there is
+          // none the current value stands in, which the blend keeps).
+          const glm::vec3 d = view.directions[c];
+          const glm::vec3 dv(glm::dot(d, hc.right), glm::dot(d, hc.up), glm::dot(d, hc.forward));
+          for (int i = 0; i < count; ++i) {
+            open_t[size_t(i)] = centers[size_t(open[size_t(i)])];
+            open_cur[size_t(i)] = cur[open[size_t(i)]];
           }
+          projection->project(offset, dv, open_t.data(), count, scratch.fx.data(), scratch.fy.data(),
+                              scratch.fz.data(), scratch.inside.data());
+          rejected += projection->read(scratch, open_cur.data(), count, open_h.data());
           for (int i = 0; i < count; ++i) {
             const int j = open[size_t(i)];
             const float now = open_cur[size_t(i)];
@@ -239,8 +260,8 @@ ReprojectStats reproject_history(const FroxelView& view, const std::vector<float
           }
           continue;
         }
-        // Without the clamp, the history of every slice: read in place for
-        // the same camera (the slices it lacks take the current value), else
+        // Streamed: the history of every slice, read in place for the same
+        // camera (the slices it lacks take the current value), else
         // projected into h.
         const float* hist = h.data();
         if (stats.identity) {
@@ -260,7 +281,23 @@ ReprojectStats reproject_history(const FroxelView& view, const std::vector<float
           rejected += projection->read(scratch, cur, n, h.data());
         }
         reads += size_t(n);
-        for (int j = 0; j < n; ++j) dst[j] = cur[j] + (hist[j] - cur[j]) * w;
+        if (clamp) {
+          // The range combines the vertical ranges of columns x - 1, x, x + 1
+          // (clamped at the edges).
+          if (x + 1 < nx) vertical_range(x + 1);  // into the slot x - 2 used
+          const float* lo = range_lo.data();
+          const float* hi = range_hi.data();
+          const size_t left = size_t(std::max(x - 1, 0) % 3) * nz, mid = size_t(x % 3) * nz,
+                       right = size_t(std::min(x + 1, nx - 1) % 3) * nz;
+          for (int j = 0; j < n; ++j) {
+            const float l = std::min(std::min(lo[left + j], lo[mid + j]), lo[right + j]);
+            const float u = std::max(std::max(hi[left + j], hi[mid + j]), hi[right + j]);
+            const float clamped = std::min(std::max(hist[j], l), u);
+            dst[j] = cur[j] + (clamped - cur[j]) * w;
+          }
+        } else {
+          for (int j = 0; j < n; ++j) dst[j] = cur[j] + (hist[j] - cur[j]) * w;
+        }
         if (light_change) {
           // The blend's history share scaled by 1 - the 3x3 neighbourhood's largest light change.
           if (x + 1 < nx) vertical_change(x + 1);  // into the slot x - 2 used
