@@ -1,7 +1,9 @@
 // fog.density: voxelisation of the medium into the froxel grid (HDRP's
 // "clear + height fog" and "fog volume" passes in one) along each column's
 // centre ray: the height fog at the slice centre, and where volumes lie the
-// mean over stratified points of the slice (see DensityPlan).
+// mean over stratified points of the slice (see DensityPlan). A froxel's
+// value depends only on the medium, never on the footprints, which only
+// bound the work: culling is exact.
 #include <algorithm>
 #include <cmath>
 
@@ -38,6 +40,12 @@ std::vector<VolumeFootprint> volume_footprints(const FroxelView& view, const Fog
   const float tan_y = std::tan(0.5f * cam.vfov_rad);
   const float tan_x = tan_y * cam.aspect;
   const float s = float(g.froxel_size());
+  // No froxel point lies nearer than the near distance along a ray through
+  // the screen, so none has a view depth below that distance times the
+  // cosine of the screen corner's ray (1% kept as margin). The boxes are
+  // clipped at this depth: what lies in front of it projects to a bounded
+  // rectangle, even for a box that reaches behind the camera.
+  const float z_clip = 0.99f * g.near_distance() / std::sqrt(1.0f + tan_x * tan_x + tan_y * tan_y);
   std::vector<VolumeFootprint> out;
   const auto& volumes = medium.volumes();
   for (size_t i = 0; i < volumes.size(); ++i) {
@@ -46,40 +54,49 @@ std::vector<VolumeFootprint> volume_footprints(const FroxelView& view, const Fog
     const glm::vec3 local(glm::dot(-v.center, v.axes[0]), glm::dot(-v.center, v.axes[1]),
                           glm::dot(-v.center, v.axes[2]));
     const float d_min = glm::length(glm::max(glm::abs(local) - v.half_size, glm::vec3(0.0f)));
+    glm::vec3 corner[8];
+    float z[8];
     float d_max = 0.0f;
-    bool behind = false, all_behind = true;
-    float px_min = 1e30f, px_max = -1e30f, py_min = 1e30f, py_max = -1e30f;
     for (int c = 0; c < 8; ++c) {
-      const glm::vec3 corner = v.center + v.axes[0] * ((c & 1) ? v.half_size.x : -v.half_size.x) +
-                               v.axes[1] * ((c & 2) ? v.half_size.y : -v.half_size.y) +
-                               v.axes[2] * ((c & 4) ? v.half_size.z : -v.half_size.z);
-      d_max = std::max(d_max, glm::length(corner));
-      const float z = glm::dot(corner, cam.forward);
-      if (z <= 1e-4f) {
-        behind = true;
-        continue;
-      }
-      all_behind = false;
-      const float px = (glm::dot(corner, cam.right) / (z * tan_x) * 0.5f + 0.5f) * float(g.width());
-      const float py = (0.5f - glm::dot(corner, cam.up) / (z * tan_y) * 0.5f) * float(g.height());
+      corner[c] = v.center + v.axes[0] * ((c & 1) ? v.half_size.x : -v.half_size.x) +
+                  v.axes[1] * ((c & 2) ? v.half_size.y : -v.half_size.y) +
+                  v.axes[2] * ((c & 4) ? v.half_size.z : -v.half_size.z);
+      z[c] = glm::dot(corner[c], cam.forward);
+      d_max = std::max(d_max, glm::length(corner[c]));
+    }
+    if (d_min > g.far_distance() || d_max < g.near_distance()) continue;
+    // Screen bounds of the box clipped at z_clip: its corners in front, and
+    // where its 12 edges cross the clip plane.
+    float px_min = 1e30f, px_max = -1e30f, py_min = 1e30f, py_max = -1e30f;
+    auto include = [&](const glm::vec3& p, float pz) {
+      const float px = (glm::dot(p, cam.right) / (pz * tan_x) * 0.5f + 0.5f) * float(g.width());
+      const float py = (0.5f - glm::dot(p, cam.up) / (pz * tan_y) * 0.5f) * float(g.height());
       px_min = std::min(px_min, px);
       px_max = std::max(px_max, px);
       py_min = std::min(py_min, py);
       py_max = std::max(py_max, py);
+    };
+    bool any = false;
+    for (int c = 0; c < 8; ++c) {
+      if (z[c] >= z_clip) {
+        include(corner[c], z[c]);
+        any = true;
+      }
+      for (int axis = 1; axis < 8; axis <<= 1) {  // each edge once, from its lower corner
+        const int e = c | axis;
+        if ((c & axis) || (z[c] >= z_clip) == (z[e] >= z_clip)) continue;
+        const float a = (z_clip - z[c]) / (z[e] - z[c]);
+        include(corner[c] + (corner[e] - corner[c]) * a, z_clip);
+      }
     }
-    if (all_behind || d_min > g.far_distance() || d_max < g.near_distance()) continue;
+    if (!any) continue;  // wholly behind the clip plane (no edge crosses it either)
+    if (px_max < 0.0f || py_max < 0.0f || px_min > float(g.nx()) * s || py_min > float(g.ny()) * s) continue;
     VolumeFootprint f;
     f.volume = int(i);
-    if (behind) {
-      // A corner behind the camera: the projection is unbounded, take the screen.
-      f.x0 = 0, f.y0 = 0, f.x1 = g.nx() - 1, f.y1 = g.ny() - 1;
-    } else {
-      if (px_max < 0.0f || py_max < 0.0f || px_min > float(g.nx()) * s || py_min > float(g.ny()) * s) continue;
-      f.x0 = std::clamp(int(std::floor(px_min / s)), 0, g.nx() - 1);
-      f.x1 = std::clamp(int(std::floor(px_max / s)), 0, g.nx() - 1);
-      f.y0 = std::clamp(int(std::floor(py_min / s)), 0, g.ny() - 1);
-      f.y1 = std::clamp(int(std::floor(py_max / s)), 0, g.ny() - 1);
-    }
+    f.x0 = std::clamp(int(std::floor(px_min / s)), 0, g.nx() - 1);
+    f.x1 = std::clamp(int(std::floor(px_max / s)), 0, g.nx() - 1);
+    f.y0 = std::clamp(int(std::floor(py_min / s)), 0, g.ny() - 1);
+    f.y1 = std::clamp(int(std::floor(py_max / s)), 0, g.ny() - 1);
     f.k0 = std::clamp(int(std::floor(g.slice_coord(d_min))), 0, g.nz() - 1);
     f.k1 = std::clamp(int(std::floor(g.slice_coord(d_max))), 0, g.nz() - 1);
     out.push_back(f);
@@ -137,14 +154,18 @@ void voxelize_rows(const FroxelView& view, const FogMedium& medium, const Densit
       }
       for (int k = k_begin; k < k_end; ++k) {
         FogDensity sum;
+        bool inside = false;  // whether a point of the froxel lies in a volume
         for (int s = 0; s < samples; ++s) {
           const glm::vec3 p = dir * (samples == 1 ? centers[k] : plan.sample_t[size_t(k) * samples + size_t(s)]);
           FogDensity d = samples == 1 ? column[k] : sample_fog[size_t(k - k_begin) * samples + size_t(s)];
           for (const VolumeFootprint* f : covering)
-            if (k >= f->k0 && k <= f->k1) medium.apply_volume(medium.volumes()[size_t(f->volume)], p, d);
+            if (k >= f->k0 && k <= f->k1) inside |= medium.apply_volume(medium.volumes()[size_t(f->volume)], p, d);
           sum.scattering += d.scattering;
           sum.extinction += d.extinction;
         }
+        // A froxel no volume reaches keeps its centre's height fog, as it
+        // would outside every footprint.
+        if (!inside) continue;
         const float inv = 1.0f / float(samples);
         column[k] = FogDensity{sum.scattering * inv, sum.extinction * inv};
       }

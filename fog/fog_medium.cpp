@@ -108,12 +108,12 @@ void FogMedium::height_fog_column(const glm::vec3& dir, const float* t, int n, F
   }
 }
 
-void FogMedium::apply_volume(const PlacedFogVolume& v, const glm::vec3& rel, FogDensity& dst) const {
+bool FogMedium::apply_volume(const PlacedFogVolume& v, const glm::vec3& rel, FogDensity& dst) const {
   const glm::vec3 o = rel - v.center;
   const glm::vec3 local(glm::dot(o, v.axes[0]), glm::dot(o, v.axes[1]), glm::dot(o, v.axes[2]));
   const glm::vec3 inside = v.half_size - glm::abs(local);  // distance to each face pair
   const float nearest_face = std::min(inside.x, std::min(inside.y, inside.z));
-  if (!(nearest_face >= 0.0f)) return;
+  if (!(nearest_face >= 0.0f)) return false;
   float fade = 1.0f;
   if (v.fade > 0.0f) fade = std::min(nearest_face / v.fade, 1.0f);
   FogDensity src = v.density;
@@ -147,6 +147,7 @@ void FogMedium::apply_volume(const PlacedFogVolume& v, const glm::vec3& rel, Fog
   }
   dst.scattering += (op.scattering - dst.scattering) * fade;
   dst.extinction += (op.extinction - dst.extinction) * fade;
+  return true;
 }
 
 FogDensity FogMedium::sample(const glm::vec3& rel) const {

@@ -48,8 +48,8 @@ class FogMedium {
   FogDensity height_fog(const glm::vec3& rel) const;
   // height_fog at dir * t[k] for k < n (one froxel column), same values.
   void height_fog_column(const glm::vec3& dir, const float* t, int n, FogDensity* out) const;
-  // Blends volume v over `dst` at `rel` (no-op outside the box).
-  void apply_volume(const PlacedFogVolume& v, const glm::vec3& rel, FogDensity& dst) const;
+  // Blends volume v over `dst` at `rel`; false (and a no-op) outside the box.
+  bool apply_volume(const PlacedFogVolume& v, const glm::vec3& rel, FogDensity& dst) const;
   // Height fog then every volume in order.
   FogDensity sample(const glm::vec3& rel) const;
 

@@ -49,8 +49,10 @@ FroxelView make_froxel_view(const FroxelGrid& grid, const Camera& camera, JobSys
 // `distance` is the frame's per-pixel distance (metres, +inf for sky).
 void cull_froxels_by_depth(FroxelView& view, const std::vector<float>& distance, JobSystem& jobs);
 
-// Screen rectangle (columns) and slice range a volume may overlap; volumes
-// outside the view or the fog range get none and cost nothing.
+// Screen rectangle (columns) and slice range a volume may overlap (the box
+// clipped where the grid's nearest points lie, so a box reaching behind the
+// camera still has a bounded one); volumes outside the view or the fog range
+// get none and cost nothing.
 struct VolumeFootprint {
   int volume = 0;  // index into FogMedium::volumes()
   int x0 = 0, y0 = 0, x1 = -1, y1 = -1;  // inclusive column ranges
@@ -67,13 +69,15 @@ struct VoxelizeStats {
 // centres), then any rows of columns (the plugin voxelises each row right
 // before lighting it, while the row is in cache; see light_froxels).
 //
-// Where a volume's footprint lies, a froxel takes the mean of the whole blend
+// Where a volume reaches a froxel, it takes the mean of the whole blend
 // (height fog, then every volume in file order) at `samples` stratified
 // points along the slice: volume edges, fades and noise are finer than a
 // slice (1-2 m deep at 20-40 m), so one point per slice aliases them, and
 // history cannot recover detail that was never sampled. The mean density
 // gives the slice's exact optical depth along the column's centre ray.
-// Elsewhere the height fog is smooth and one centre point suffices.
+// Elsewhere the height fog is smooth and one centre point suffices: a froxel
+// none of whose points lies in a volume keeps it, so the footprints only
+// bound the work and never change a value.
 struct DensityPlan {
   std::vector<VolumeFootprint> footprints;
   std::vector<float> centers;  // per slice: its centre distance

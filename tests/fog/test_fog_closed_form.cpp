@@ -6,6 +6,8 @@
 
 #include <cmath>
 
+#include "fog/fog_medium.h"
+#include "fog/homogeneous_medium.h"
 #include "fog/phase_function.h"
 #include "fog_test_scene.h"
 
@@ -83,4 +85,53 @@ TEST_CASE("phase functions are normalised and their SH zonal coefficients match 
       CHECK(z[1] == doctest::Approx(l1).epsilon(2e-3));
       CHECK(z[2] == doctest::Approx(l2).epsilon(2e-3));
     }
+}
+
+TEST_CASE("the froxel sample offset inverts the transmittance-proportional CDF of the slice") {
+  // F(t) = (1 - exp(-sigma t)) / (1 - exp(-sigma dt)) on [0, dt]; the offset
+  // for u must satisfy F(offset) = u, on both sides of the thin-slice series'
+  // switch (a = sigma dt = 0.05) and in optically thick slices.
+  const float dt = 2.0f;
+  for (double a : {1e-6, 1e-3, 0.02, 0.0499, 0.0501, 0.3, 2.0, 12.0, 60.0}) {
+    CAPTURE(a);
+    const float sigma = float(a / dt);
+    float previous = -1.0f;
+    for (int i = 0; i < 64; ++i) {
+      const float u = (float(i) + 0.5f) / 64.0f;
+      const float t = importance_sample_offset(u, sigma, dt);
+      REQUIRE(t >= 0.0f);
+      REQUIRE(t <= dt);
+      CHECK(t > previous);  // monotonic in u
+      previous = t;
+      const double cdf = -std::expm1(-double(sigma) * t) / -std::expm1(-a);
+      CHECK(std::abs(cdf - u) < 2e-4);
+    }
+  }
+}
+
+TEST_CASE("height fog: the base extinction below the base, 0.001 of it at the maximum height, clear air above") {
+  FogSceneSettings s;
+  s.height_fog = true;
+  s.base_height = 10.0f;
+  s.max_height = 30.0f;
+  s.extinction = 0.05f;
+  s.albedo = glm::vec3(0.9f, 0.8f, 0.7f);
+  FogMedium m(s);
+  m.set_camera({100.0, 4.0, -3.0});  // positions are relative to the camera
+  auto at_height = [&](float h) { return m.height_fog(glm::vec3(7.0f, h - 4.0f, 2.0f)); };
+  CHECK(at_height(-50.0f).extinction == doctest::Approx(0.05f));
+  CHECK(at_height(10.0f).extinction == doctest::Approx(0.05f));
+  CHECK(at_height(30.0f).extinction == doctest::Approx(0.05f * 0.001f).epsilon(1e-4));
+  // Exponential in between: halfway the geometric mean of the ends.
+  CHECK(at_height(20.0f).extinction == doctest::Approx(0.05f * std::sqrt(0.001f)).epsilon(1e-4));
+  const FogDensity d = at_height(17.0f);
+  CHECK(d.scattering.x == doctest::Approx(0.9f * d.extinction));
+  CHECK(d.scattering.z == doctest::Approx(0.7f * d.extinction));
+  // Beyond twice the layer above the base (1e-6 of the base) the air is clear.
+  CHECK(at_height(49.0f).extinction > 0.0f);
+  CHECK(at_height(51.0f).extinction == 0.0f);
+  s.height_fog = false;
+  FogMedium off(s);
+  off.set_camera({0.0, 0.0, 0.0});
+  CHECK(off.height_fog(glm::vec3(0.0f, -100.0f, 0.0f)).extinction == 0.0f);
 }

@@ -8,7 +8,9 @@
 // trilinear read touches a slice the history culled, the history read's
 // eight-lane path gives its one-slice definition's bits, and the clamped
 // blend reads history only where the clamp range is not one value, with the
-// bits of reading every froxel's history.
+// bits of reading every froxel's history. And the geometry itself: each
+// froxel centre reads the history where the old camera saw it, projected
+// here independently of the pass.
 #include <doctest/doctest.h>
 
 #include <cstring>
@@ -287,4 +289,78 @@ TEST_CASE("a moving camera's clamped reprojection reads history only where the 3
       CHECK(stats.rejected == rejected);
       CHECK(rejected > 0);
     }
+}
+
+TEST_CASE("a moving camera reads the history where each froxel centre was, and none outside the old frustum") {
+  // The history holds a field linear in its grid's coordinates, which the
+  // trilinear read reproduces exactly. Each current froxel centre, projected
+  // here with the old camera's own basis (not the pass's code), must read
+  // the field at its old grid coordinates; centres the old view did not see
+  // keep the current value.
+  JobSystem jobs(2);
+  const FroxelGrid grid(96, 64, 8, 32, 0.1f, 40.0f, 0.5f);
+  const float aspect = 96.0f / 64.0f, vfov = 1.0f;
+  const Camera old_cam = Camera::look_at({0, 2, 5}, {1, 1, -10}, vfov, aspect, 0.1f);
+  const FroxelView history_view = make_froxel_view(grid, old_cam, jobs);
+  const float ax = 1.0f, ay = 3.0f, az = 10.0f, a0 = 7.0f;
+  std::vector<float> history(grid.count()), current(grid.count(), -1.0f), out;
+  for (int y = 0; y < grid.ny(); ++y)
+    for (int x = 0; x < grid.nx(); ++x)
+      for (int k = 0; k < grid.nz(); ++k) history[grid.index(x, y, k)] = a0 + ax * x + ay * y + az * k;
+  // Moved and turned left and down, then moved back and turned right and up:
+  // centres leave the old view past each of its four sides.
+  for (const glm::dvec3& target : {glm::dvec3(-4, 1.5, -10), glm::dvec3(8, 5, -10)}) {
+    CAPTURE(target.x);
+    const Camera cam = Camera::look_at({1.5, 2.4, 3.0 + target.x * 0.3}, target, vfov, aspect, 0.1f);
+    const FroxelView view = make_froxel_view(grid, cam, jobs);
+    const ReprojectStats stats = reproject_history(view, current, history_view, history, 1.0f, false, jobs, out);
+    REQUIRE_FALSE(stats.identity);
+
+    const float tan_y = std::tan(0.5f * vfov), tan_x = tan_y * aspect;
+    const float s = float(grid.froxel_size());
+    size_t seen = 0, unseen = 0;
+    for (int y = 0; y < grid.ny(); ++y)
+      for (int x = 0; x < grid.nx(); ++x)
+        for (int k = 0; k < grid.nz(); ++k) {
+          const glm::vec3 dir = view.directions[size_t(y) * grid.nx() + x];
+          const glm::dvec3 p = cam.position + glm::dvec3(dir * grid.center(k));
+          const glm::vec3 rel(p - old_cam.position);
+          const double qx = glm::dot(rel, old_cam.right), qy = glm::dot(rel, old_cam.up),
+                       qz = glm::dot(rel, old_cam.forward);
+          const double px = (qx / (qz * tan_x) * 0.5 + 0.5) * grid.width();
+          const double py = (0.5 - qy / (qz * tan_y) * 0.5) * grid.height();
+          const double dist = glm::length(glm::dvec3(rel));
+          const float got = out[grid.index(x, y, k)];
+          CAPTURE(x);
+          CAPTURE(y);
+          CAPTURE(k);
+          // Points within a hair of the old frustum's sides or fog range are
+          // left to rounding.
+          const double margin = 0.01;
+          const bool inside = qz > 0 && px > margin && px < grid.width() - margin && py > margin &&
+                              py < grid.height() - margin && dist > grid.near_distance() * (1 + 1e-4) &&
+                              dist < grid.far_distance() * (1 - 1e-4);
+          const bool outside = qz <= 0 || px < -margin || px > grid.width() + margin || py < -margin ||
+                               py > grid.height() + margin || dist < grid.near_distance() * (1 - 1e-4) ||
+                               dist > grid.far_distance() * (1 + 1e-4);
+          if (outside) {
+            CHECK(got == -1.0f);
+            ++unseen;
+          } else if (inside) {
+            // Grid coordinates of the point (froxel centres at integers),
+            // clamped to the outermost centres as the edge froxels extend.
+            const double cx = std::clamp(px / s - 0.5, 0.0, double(grid.nx() - 1));
+            const double cy = std::clamp(py / s - 0.5, 0.0, double(grid.ny() - 1));
+            const double ck = std::clamp(double(grid.slice_coord(float(dist))) - 0.5, 0.0, double(grid.nz() - 1));
+            const double expected = a0 + ax * cx + ay * cy + az * ck;
+            // 1e-3 of a froxel laterally and 2e-3 of a slice (the pass's fast log).
+            CHECK(std::abs(got - expected) <= ax * 1e-3 + ay * 1e-3 + az * 2e-3 + 1e-4 * expected);
+            ++seen;
+          }
+        }
+    // The move leaves both kinds in view.
+    CHECK(seen > grid.count() / 4);
+    CHECK(unseen > grid.count() / 20);
+    CHECK(stats.rejected >= unseen);
+  }
 }

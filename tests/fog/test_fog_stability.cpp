@@ -94,7 +94,7 @@ TEST_CASE("stability: camera inside volumes, volumes crossing the near plane, ze
     s.volumes.push_back(v);
   };
   add({0, 2, 5}, {3, 3, 3}, 10.0f, FogBlend::Overwrite, 0.5f, true);           // contains the camera
-  add({0, 2, 4.95}, {5, 5, 0.02f}, 10.0f, FogBlend::Additive, 0.0f, false);   // thin sheet on the near plane
+  add({0, 2, 4.9}, {5, 5, 0.08f}, 10.0f, FogBlend::Additive, 0.0f, false);    // thin sheet across the near plane
   add({0, 2, 5}, {0, 0, 0}, 10.0f, FogBlend::Max, 1.0f, false);               // zero size
   add({0, 2, 0}, {0, 1, 1}, 10.0f, FogBlend::Additive, 0.0f, false);          // zero along one axis
   add({0, 2, -5}, {2, 2, 2}, 0.5f, FogBlend::Multiply, 1.0f, true);
@@ -114,7 +114,8 @@ TEST_CASE("stability: camera inside volumes, volumes crossing the near plane, ze
                                wall_shadow(cam, sun), jobs, mixed_distances(), glm::vec3(0.5f));
     check_image(img);
     check_bounded(fog, FogPhase::HenyeyGreenstein, 0.9f);
-    if (f < 3) CHECK(fog.stats().voxelize.visible_volumes >= 4);
+    // Seen: the volume holding the camera, the sheet, the two ahead.
+    if (f < 3) CHECK(fog.stats().voxelize.visible_volumes == 4);
     prev = cam;
   }
 }

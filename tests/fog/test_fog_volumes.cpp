@@ -125,6 +125,93 @@ TEST_CASE("volumes outside the view cost nothing and only overlapped froxels cha
   CHECK(changed > 0);
 }
 
+namespace {
+
+// Volumes around a camera at (0, 2, 0) looking down -z (60 degrees, 4:3):
+// a rotated one with noise and fade in view, one holding the camera (across
+// the near plane), one reaching from the view to behind the camera on the
+// right, one beside the camera and out of view, one far ahead.
+FogSceneSettings volumes_around_the_camera() {
+  FogSceneSettings s = uniform_fog(0.03f, glm::vec3(0.9f));
+  s.base_height = 0.0f;  // a height fog that varies inside a froxel
+  s.max_height = 20.0f;
+  FogVolume rotated = box({2, 1, -12}, {2, 1.5f, 3}, 0.6f, FogBlend::Max, glm::vec3(0.7f));
+  const float c = std::cos(0.5f), sn = std::sin(0.5f);
+  rotated.axes[0] = {c, 0, -sn};
+  rotated.axes[2] = {sn, 0, c};
+  rotated.fade = 0.5f;
+  rotated.noise.enabled = true;
+  rotated.noise.strength = 0.5f;
+  FogVolume around = box({0, 2, 1}, {1, 1, 1.5f}, 0.4f, FogBlend::Additive);
+  around.fade = 0.3f;
+  s.volumes = {rotated, around, box({3, 2, 0}, {1, 1, 3}, 0.2f, FogBlend::Overwrite),
+               box({5, 2, 0.5}, {1, 1, 1}, 3.0f, FogBlend::Multiply), box({-4, 3, -60}, {5, 5, 5}, 0.01f, FogBlend::Min)};
+  return s;
+}
+
+}  // namespace
+
+TEST_CASE("footprints only bound the work: the density is the same as with every volume over the whole grid") {
+  JobSystem jobs(2);
+  const int w = 64, h = 48;
+  const Camera cam = camera_at({0, 2, 0}, {0, 2, -10}, w, h);
+  const FroxelGrid grid(w, h, 8, 32, cam.znear, 64.0f, 0.5f);
+  const FroxelView view = make_froxel_view(grid, cam, jobs);
+  FogMedium m(volumes_around_the_camera());
+  m.set_camera(cam.position);
+  for (int samples : {1, 4}) {
+    CAPTURE(samples);
+    const DensityPlan plan = plan_density(view, m, samples);
+    DensityPlan everywhere = plan;
+    everywhere.footprints.clear();
+    for (size_t i = 0; i < m.volumes().size(); ++i)
+      everywhere.footprints.push_back(
+          VolumeFootprint{int(i), 0, 0, grid.nx() - 1, grid.ny() - 1, 0, grid.nz() - 1});
+    std::vector<FogDensity> bounded(grid.count()), full(grid.count());
+    voxelize_rows(view, m, plan, 0, grid.ny(), bounded);
+    voxelize_rows(view, m, everywhere, 0, grid.ny(), full);
+    CHECK(std::memcmp(bounded.data(), full.data(), bounded.size() * sizeof(FogDensity)) == 0);
+    // And the volumes do change the field (the test is not vacuous).
+    FogSceneSettings fog_only = volumes_around_the_camera();
+    fog_only.volumes.clear();
+    FogMedium height_only(fog_only);
+    height_only.set_camera(cam.position);
+    std::vector<FogDensity> none(grid.count());
+    voxelize_rows(view, height_only, plan_density(view, height_only, samples), 0, grid.ny(), none);
+    size_t changed = 0;
+    for (size_t i = 0; i < none.size(); ++i) changed += none[i].extinction != bounded[i].extinction;
+    CHECK(changed > grid.count() / 50);
+    CHECK(changed < grid.count() / 2);
+  }
+}
+
+TEST_CASE("a volume reaching behind the camera has a bounded footprint; one beside the camera has none") {
+  JobSystem jobs(1);
+  const int w = 64, h = 48;
+  const Camera cam = camera_at({0, 2, 0}, {0, 2, -10}, w, h);
+  const FroxelGrid grid(w, h, 8, 32, cam.znear, 64.0f, 0.5f);
+  const FroxelView view = make_froxel_view(grid, cam, jobs);
+  FogMedium m(volumes_around_the_camera());
+  m.set_camera(cam.position);
+  const std::vector<VolumeFootprint> f = volume_footprints(view, m);
+  std::vector<int> of(m.volumes().size(), -1);
+  for (size_t i = 0; i < f.size(); ++i) of[size_t(f[i].volume)] = int(i);
+  REQUIRE(of[2] >= 0);
+  REQUIRE(of[1] >= 0);
+  // The box on the right (x from 2 to 4, z from -3 to 3) is seen only in the
+  // screen's right half.
+  CHECK(f[size_t(of[2])].x0 >= grid.nx() / 2);
+  CHECK(f[size_t(of[2])].x1 == grid.nx() - 1);
+  // The box holding the camera covers the screen, in its first slices only.
+  CHECK(f[size_t(of[1])].x0 == 0);
+  CHECK(f[size_t(of[1])].x1 == grid.nx() - 1);
+  CHECK(f[size_t(of[1])].k1 < grid.nz() / 2);
+  // Beside the camera (x from 4 to 6, z from -0.5 to 1.5): out of view.
+  CHECK(of[3] == -1);
+  CHECK(of[0] >= 0);
+  CHECK(of[4] >= 0);
+}
+
 TEST_CASE("where volumes lie, a froxel takes the slice's mean density (its exact optical depth)") {
   JobSystem jobs(2);
   const int w = 160, h = 96;
