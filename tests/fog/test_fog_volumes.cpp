@@ -149,16 +149,23 @@ FogSceneSettings volumes_around_the_camera() {
   return s;
 }
 
+// That medium seen from the camera, on a 64x48 grid of 32 slices.
+struct AroundTheCamera {
+  JobSystem jobs{2};
+  Camera cam = camera_at({0, 2, 0}, {0, 2, -10}, 64, 48);
+  FroxelGrid grid{64, 48, 8, 32, cam.znear, 64.0f, 0.5f};
+  FroxelView view = make_froxel_view(grid, cam, jobs);
+  FogMedium m{volumes_around_the_camera()};
+  AroundTheCamera() { m.set_camera(cam.position); }
+};
+
 }  // namespace
 
 TEST_CASE("footprints only bound the work: the density is the same as with every volume over the whole grid") {
-  JobSystem jobs(2);
-  const int w = 64, h = 48;
-  const Camera cam = camera_at({0, 2, 0}, {0, 2, -10}, w, h);
-  const FroxelGrid grid(w, h, 8, 32, cam.znear, 64.0f, 0.5f);
-  const FroxelView view = make_froxel_view(grid, cam, jobs);
-  FogMedium m(volumes_around_the_camera());
-  m.set_camera(cam.position);
+  AroundTheCamera c;
+  const FroxelGrid& grid = c.grid;
+  const FroxelView& view = c.view;
+  const FogMedium& m = c.m;
   for (int samples : {1, 4}) {
     CAPTURE(samples);
     const DensityPlan plan = plan_density(view, m, samples);
@@ -175,7 +182,7 @@ TEST_CASE("footprints only bound the work: the density is the same as with every
     FogSceneSettings fog_only = volumes_around_the_camera();
     fog_only.volumes.clear();
     FogMedium height_only(fog_only);
-    height_only.set_camera(cam.position);
+    height_only.set_camera(c.cam.position);
     std::vector<FogDensity> none(grid.count());
     voxelize_rows(view, height_only, plan_density(view, height_only, samples), 0, grid.ny(), none);
     size_t changed = 0;
@@ -186,15 +193,10 @@ TEST_CASE("footprints only bound the work: the density is the same as with every
 }
 
 TEST_CASE("a volume reaching behind the camera has a bounded footprint; one beside the camera has none") {
-  JobSystem jobs(1);
-  const int w = 64, h = 48;
-  const Camera cam = camera_at({0, 2, 0}, {0, 2, -10}, w, h);
-  const FroxelGrid grid(w, h, 8, 32, cam.znear, 64.0f, 0.5f);
-  const FroxelView view = make_froxel_view(grid, cam, jobs);
-  FogMedium m(volumes_around_the_camera());
-  m.set_camera(cam.position);
-  const std::vector<VolumeFootprint> f = volume_footprints(view, m);
-  std::vector<int> of(m.volumes().size(), -1);
+  AroundTheCamera c;
+  const FroxelGrid& grid = c.grid;
+  const std::vector<VolumeFootprint> f = volume_footprints(c.view, c.m);
+  std::vector<int> of(c.m.volumes().size(), -1);
   for (size_t i = 0; i < f.size(); ++i) of[size_t(f[i].volume)] = int(i);
   REQUIRE(of[2] >= 0);
   REQUIRE(of[1] >= 0);
