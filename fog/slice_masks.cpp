@@ -31,7 +31,7 @@ void zero_one_masks(const float* values, int lit, int words, uint64_t* out) {
   static const bool avx2 = __builtin_cpu_supports("avx2");
   const auto equal_bits = avx2 ? equal_bits_avx2 : equal_bits_scalar;
   for (int w = 0; w < words; ++w) {
-    const int count = std::clamp(lit - 64 * w, 0, 64);
+    const int count = lit_in_word(lit, w);
     const uint64_t free = ~low_bits(count);
     out[w] = equal_bits(values + 64 * w, count, 0.0f) | free;
     out[words + w] = equal_bits(values + 64 * w, count, 1.0f) | free;

@@ -14,6 +14,12 @@ inline uint64_t low_bits(int count) { return count >= 64 ? ~uint64_t(0) : (uint6
 // 64-bit words per mask for nz slices.
 inline int mask_words(int nz) { return (nz + 63) / 64; }
 
+// How many of word w's 64 slices lie below `lit`.
+inline int lit_in_word(int lit, int w) {
+  const int count = lit - 64 * w;
+  return count < 0 ? 0 : count > 64 ? 64 : count;
+}
+
 // The masks of one column of `lit` values: out[0, words) the slices equal to
 // 0 (either sign), out[words, 2 words) those equal to 1. Slices from `lit`
 // on (unlit, or past the grid) are set in both: they do not take part.
@@ -34,8 +40,7 @@ inline uint64_t mixed_bits(const uint64_t* vertical, int nx, int x, int words, i
   const uint64_t* r = vertical + std::size_t(x + 1 < nx ? x + 1 : x) * per_column;
   const std::size_t z = std::size_t(w), o = std::size_t(words + w);
   const uint64_t agree = (l[z] & m[z] & r[z]) | (l[o] & m[o] & r[o]);
-  const int count = lit - 64 * w;
-  return ~agree & low_bits(count < 0 ? 0 : count > 64 ? 64 : count);
+  return ~agree & low_bits(lit_in_word(lit, w));
 }
 
 }  // namespace cr

@@ -115,52 +115,61 @@ std::vector<float> random_light_change(const FroxelGrid& g, std::mt19937& rng) {
   return out;
 }
 
-}  // namespace
-
-TEST_CASE("the reprojection clamp matches the per-froxel 3x3 definition bit for bit") {
+// Runs test(c, seed) on the clamp cases: 24 and 70 slices (one and two mask
+// words), seeds 1-4.
+template <class Test>
+void for_each_clamp_case(Test&& test) {
   for (int slices_count : {24, 70})
     for (unsigned seed = 1; seed <= 4; ++seed) {
       CAPTURE(slices_count);
       CAPTURE(seed);
       ClampCase c = random_case(seed, slices_count);
-      const FroxelGrid& g = c.view.grid;
-      // Same camera: the history is read in place where it is lit, so the
-      // value before the clamp is known exactly.
-      FroxelView history_view = c.view;
-      std::mt19937 rng(seed + 100);
-      std::uniform_int_distribution<int> slices(0, g.nz());
-      for (auto& n : history_view.lit_slices) n = uint16_t(slices(rng));
-      // Odd seeds: few distinct values (ties, zeros of either sign); even
-      // seeds: shafts of 0 and 1, which the masks pass over, and a light change.
-      std::vector<float> light_change;
-      if (seed % 2 == 0) {
-        shaft_values(c, rng);
-        light_change = random_light_change(g, rng);
-      }
-      const std::vector<float>* change = light_change.empty() ? nullptr : &light_change;
-      const float w = kWeight;
-      std::vector<float> out;
-      const ReprojectStats stats = reproject_clamped(c, history_view, change, out);
-      REQUIRE(stats.identity);
-      size_t mismatches = 0, rejected = 0, lit = 0;
-      for (int y = 0; y < g.ny(); ++y)
-        for (int x = 0; x < g.nx(); ++x) {
-          const size_t col = size_t(y) * g.nx() + x;
-          for (int j = 0; j < c.view.lit_slices[col]; ++j) {
-            const float cur = c.current[g.index(x, y, j)];
-            const bool has = j < history_view.lit_slices[col];
-            const float expected = clamped_blend(c, change, x, y, j, has ? c.history[g.index(x, y, j)] : cur, w);
-            mismatches += std::memcmp(&expected, &out[g.index(x, y, j)], sizeof(float)) != 0;
-            rejected += !has;
-          }
-          lit += c.view.lit_slices[col];
-        }
-      CHECK(mismatches == 0);
-      // A still camera streams its history: every froxel is looked up.
-      CHECK(stats.reads == lit);
-      CHECK(stats.rejected == rejected);
-      CHECK(rejected > 0);
+      test(c, seed);
     }
+}
+
+}  // namespace
+
+TEST_CASE("the reprojection clamp matches the per-froxel 3x3 definition bit for bit") {
+  for_each_clamp_case([](ClampCase& c, unsigned seed) {
+    const FroxelGrid& g = c.view.grid;
+    // Same camera: the history is read in place where it is lit, so the
+    // value before the clamp is known exactly.
+    FroxelView history_view = c.view;
+    std::mt19937 rng(seed + 100);
+    std::uniform_int_distribution<int> slices(0, g.nz());
+    for (auto& n : history_view.lit_slices) n = uint16_t(slices(rng));
+    // Odd seeds: few distinct values (ties, zeros of either sign); even
+    // seeds: shafts of 0 and 1, which the masks pass over, and a light change.
+    std::vector<float> light_change;
+    if (seed % 2 == 0) {
+      shaft_values(c, rng);
+      light_change = random_light_change(g, rng);
+    }
+    const std::vector<float>* change = light_change.empty() ? nullptr : &light_change;
+    const float w = kWeight;
+    std::vector<float> out;
+    const ReprojectStats stats = reproject_clamped(c, history_view, change, out);
+    REQUIRE(stats.identity);
+    size_t mismatches = 0, rejected = 0, lit = 0;
+    for (int y = 0; y < g.ny(); ++y)
+      for (int x = 0; x < g.nx(); ++x) {
+        const size_t col = size_t(y) * g.nx() + x;
+        for (int j = 0; j < c.view.lit_slices[col]; ++j) {
+          const float cur = c.current[g.index(x, y, j)];
+          const bool has = j < history_view.lit_slices[col];
+          const float expected = clamped_blend(c, change, x, y, j, has ? c.history[g.index(x, y, j)] : cur, w);
+          mismatches += std::memcmp(&expected, &out[g.index(x, y, j)], sizeof(float)) != 0;
+          rejected += !has;
+        }
+        lit += c.view.lit_slices[col];
+      }
+    CHECK(mismatches == 0);
+    // A still camera streams its history: every froxel is looked up.
+    CHECK(stats.reads == lit);
+    CHECK(stats.rejected == rejected);
+    CHECK(rejected > 0);
+  });
 }
 
 TEST_CASE("a moving camera's history reads never touch a slice the history culled") {
@@ -232,63 +241,59 @@ TEST_CASE("the moving-camera history read gives its one-slice definition's bits"
 }
 
 TEST_CASE("a moving camera's clamped reprojection reads history only where the 3x3 range is not one value") {
-  for (int slices_count : {24, 70})
-    for (unsigned seed = 1; seed <= 4; ++seed) {
-      CAPTURE(slices_count);
-      CAPTURE(seed);
-      ClampCase c = random_case(seed, slices_count);
-      const FroxelGrid& g = c.view.grid;
-      std::mt19937 rng(seed + 400);
-      const FroxelView history_view = moved_history_view(c, rng);
-      std::uniform_real_distribution<float> unit(0.0f, 1.0f);
-      for (auto& v : c.history) v = unit(rng);
-      shaft_values(c, rng);
-      // Even seeds: the sun moved too.
-      const std::vector<float> light_change = seed % 2 == 0 ? random_light_change(g, rng) : std::vector<float>{};
-      const std::vector<float>* change = light_change.empty() ? nullptr : &light_change;
-      const float w = kWeight;
-      std::vector<float> out;
-      const ReprojectStats stats = reproject_clamped(c, history_view, change, out);
-      REQUIRE_FALSE(stats.identity);
-      // The definition: every lit froxel's history projected and read, clamped
-      // to its 3x3 range, blended.
-      const HistoryProjection projection(history_view, c.history);
-      HistoryProjection::Scratch scratch(g.nz());
-      const Camera& hc = history_view.camera;
-      const glm::vec3 offset_world(c.view.camera.position - hc.position);
-      const glm::vec3 offset(glm::dot(offset_world, hc.right), glm::dot(offset_world, hc.up),
-                             glm::dot(offset_world, hc.forward));
-      std::vector<float> centers(size_t(g.nz())), h(size_t(g.nz()));
-      for (int k = 0; k < g.nz(); ++k) centers[size_t(k)] = g.center(k);
-      size_t lit = 0, mismatches = 0, rejected = 0;
-      for (int y = 0; y < g.ny(); ++y)
-        for (int x = 0; x < g.nx(); ++x) {
-          const size_t col = size_t(y) * g.nx() + x;
-          const int n = c.view.lit_slices[col];
-          const glm::vec3 d = c.view.directions[col];
-          const glm::vec3 dv(glm::dot(d, hc.right), glm::dot(d, hc.up), glm::dot(d, hc.forward));
-          projection.project(offset, dv, centers.data(), n, scratch.fx.data(), scratch.fy.data(), scratch.fz.data(),
-                             scratch.inside.data());
-          const float* cur = c.current.data() + g.index(x, y, 0);
-          for (int j = 0; j < n; ++j) {
-            const size_t no_history = projection.read_slices(scratch, cur, j, j + 1, h.data());
-            float lo, hi;
-            range_3x3(c, x, y, j, lo, hi);
-            // Where the range is one value the history is not needed: its
-            // rejection is not counted.
-            if (lo != hi) rejected += no_history;
-            const float expected = clamped_blend(c, change, x, y, j, h[size_t(j)], w);
-            mismatches += std::memcmp(&expected, &out[g.index(x, y, j)], sizeof(float)) != 0;
-          }
-          lit += size_t(n);
+  for_each_clamp_case([](ClampCase& c, unsigned seed) {
+    const FroxelGrid& g = c.view.grid;
+    std::mt19937 rng(seed + 400);
+    const FroxelView history_view = moved_history_view(c, rng);
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+    for (auto& v : c.history) v = unit(rng);
+    shaft_values(c, rng);
+    // Even seeds: the sun moved too.
+    const std::vector<float> light_change = seed % 2 == 0 ? random_light_change(g, rng) : std::vector<float>{};
+    const std::vector<float>* change = light_change.empty() ? nullptr : &light_change;
+    const float w = kWeight;
+    std::vector<float> out;
+    const ReprojectStats stats = reproject_clamped(c, history_view, change, out);
+    REQUIRE_FALSE(stats.identity);
+    // The definition: every lit froxel's history projected and read, clamped
+    // to its 3x3 range, blended.
+    const HistoryProjection projection(history_view, c.history);
+    HistoryProjection::Scratch scratch(g.nz());
+    const Camera& hc = history_view.camera;
+    const glm::vec3 offset_world(c.view.camera.position - hc.position);
+    const glm::vec3 offset(glm::dot(offset_world, hc.right), glm::dot(offset_world, hc.up),
+                           glm::dot(offset_world, hc.forward));
+    std::vector<float> centers(size_t(g.nz())), h(size_t(g.nz()));
+    for (int k = 0; k < g.nz(); ++k) centers[size_t(k)] = g.center(k);
+    size_t lit = 0, mismatches = 0, rejected = 0;
+    for (int y = 0; y < g.ny(); ++y)
+      for (int x = 0; x < g.nx(); ++x) {
+        const size_t col = size_t(y) * g.nx() + x;
+        const int n = c.view.lit_slices[col];
+        const glm::vec3 d = c.view.directions[col];
+        const glm::vec3 dv(glm::dot(d, hc.right), glm::dot(d, hc.up), glm::dot(d, hc.forward));
+        projection.project(offset, dv, centers.data(), n, scratch.fx.data(), scratch.fy.data(), scratch.fz.data(),
+                           scratch.inside.data());
+        const float* cur = c.current.data() + g.index(x, y, 0);
+        for (int j = 0; j < n; ++j) {
+          const size_t no_history = projection.read_slices(scratch, cur, j, j + 1, h.data());
+          float lo, hi;
+          range_3x3(c, x, y, j, lo, hi);
+          // Where the range is one value the history is not needed: its
+          // rejection is not counted.
+          if (lo != hi) rejected += no_history;
+          const float expected = clamped_blend(c, change, x, y, j, h[size_t(j)], w);
+          mismatches += std::memcmp(&expected, &out[g.index(x, y, j)], sizeof(float)) != 0;
         }
-      CHECK(mismatches == 0);
-      // Most froxels' ranges are one value: their history is never looked up.
-      CHECK(stats.reads > lit / 10);
-      CHECK(stats.reads < lit / 2);
-      CHECK(stats.rejected == rejected);
-      CHECK(rejected > 0);
-    }
+        lit += size_t(n);
+      }
+    CHECK(mismatches == 0);
+    // Most froxels' ranges are one value: their history is never looked up.
+    CHECK(stats.reads > lit / 10);
+    CHECK(stats.reads < lit / 2);
+    CHECK(stats.rejected == rejected);
+    CHECK(rejected > 0);
+  });
 }
 
 TEST_CASE("a moving camera reads the history where each froxel centre was, and none outside the old frustum") {
