@@ -39,7 +39,7 @@ FogRun load_fog_run(const ArgParser& args, const PluginRegistry& registry) {
   if (args.has("resolution"))
     std::tie(run.profile.width, run.profile.height) = parse_resolution(args.get("resolution"), "fog");
   const std::string& scene = args.positional().at(0);
-  run.description = load_scene_description(scene, sections);
+  run.description = load_scene_description(scene, sections, {executable_dir() + "/scenes"});
   if (!run.description.plugins.contains("fog"))
     throw InputError(scene, "has no \"fog\" section: nothing to measure");
   run.fog_scene = parse_fog_scene(run.description.plugins.at("fog"), run.description.path);

@@ -35,7 +35,7 @@ RunSetup load_run(const std::string& scene_path, const std::string& profile, con
     s.profile.width = width;
     s.profile.height = height;
   }
-  s.description = load_scene_description(scene_path, sections);
+  s.description = load_scene_description(scene_path, sections, {executable_dir() + "/scenes"});
   GltfLoadOptions options;
   options.allow_missing_images = allow_missing_images;
   options.texture_decode_budget = size_t(s.profile.texture_decode_budget_mb) << 20;

@@ -141,7 +141,8 @@ size_t check_accessor(const GltfContext& ctx, int accessor, const std::string& w
 }
 
 FloatAccessor read_float_accessor(const GltfContext& ctx, int accessor, const std::string& what,
-                                  std::initializer_list<int> types, bool allow_unorm) {
+                                  std::initializer_list<int> types, AttributeKind kind) {
+  const bool allow_unorm = kind == AttributeKind::Texcoord || kind == AttributeKind::Color;
   AccessorBytes b = view_accessor(ctx, accessor, what);
   const tinygltf::Accessor& a = ctx.model.accessors[accessor];
   bool type_ok = false;

@@ -24,11 +24,25 @@ struct FloatAccessor {
   size_t count = 0;
 };
 
+// What an accessor holds: decides which component types are allowed (core
+// glTF 2.0 plus KHR_mesh_quantization) and how integers become floats
+// (normalized: the spec's unorm/snorm rules; otherwise the integer value).
+enum class AttributeKind {
+  Position,    // POSITION
+  Normal,      // NORMAL
+  Tangent,     // TANGENT
+  Texcoord,    // TEXCOORD_n
+  Color,       // COLOR_n
+  Weights,     // WEIGHTS_n
+  MorphDelta,  // POSITION/NORMAL/TANGENT of a morph target
+  Scalar,      // float-only data: inverse bind matrices, animation times and values, instance transforms
+};
+
 // Reads a float attribute. `types` lists the allowed TINYGLTF_TYPE_* values;
-// with `allow_unorm` normalized unsigned byte/short are accepted and mapped
-// to [0, 1]. `what` names the use in messages ("POSITION of mesh 0 primitive 1").
+// `kind` the allowed component types. `what` names the use in messages
+// ("POSITION of mesh 0 primitive 1").
 FloatAccessor read_float_accessor(const GltfContext& ctx, int accessor, const std::string& what,
-                                  std::initializer_list<int> types, bool allow_unorm);
+                                  std::initializer_list<int> types, AttributeKind kind);
 
 // Reads a SCALAR unsigned byte/short/int index accessor.
 std::vector<uint32_t> read_index_accessor(const GltfContext& ctx, int accessor, const std::string& what);

@@ -13,9 +13,12 @@ namespace {
 
 bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
-bool uses_texcoords(const Material& m) {
-  return m.base_color.valid() || m.metallic_roughness.valid() || m.normal.valid() || m.occlusion.valid() ||
-         m.emissive.valid();
+// Whether a texture of the material reads texture coordinate set `set`.
+bool uses_texcoords(const Material& m, int set) {
+  for (const TextureRef* t : {&m.base_color, &m.metallic_roughness, &m.normal, &m.occlusion, &m.emissive}) {
+    if (t->valid() && t->texcoord == set) return true;
+  }
+  return false;
 }
 
 template <typename Vec>
@@ -43,7 +46,7 @@ class PrimitiveLoader {
     if (pos_it == src.attributes.end()) return std::nullopt;  // the spec says: not rendered
     Primitive p;
     p.positions = to_vectors<glm::vec3>(read_float_accessor(ctx_, pos_it->second, attr("POSITION"),
-                                                            {TINYGLTF_TYPE_VEC3}, false));
+                                                            {TINYGLTF_TYPE_VEC3}, AttributeKind::Position));
     const size_t n = p.positions.size();
     for (size_t v = 0; v < n; ++v) {
       if (!finite(p.positions[v])) ctx_.fail(attr("POSITION") + ": vertex " + std::to_string(v) + " is not finite (NaN or Inf)");
@@ -64,20 +67,11 @@ class PrimitiveLoader {
     }
     const Material* material = src.material >= 0 ? &materials_[src.material] : nullptr;
 
-    if (auto it = src.attributes.find("TEXCOORD_0"); it != src.attributes.end()) {
-      p.texcoords = to_vectors<glm::vec2>(read_float_accessor(ctx_, it->second, attr("TEXCOORD_0"),
-                                                              {TINYGLTF_TYPE_VEC2}, true));
-      for (size_t v = 0; v < n; ++v) {
-        if (!std::isfinite(p.texcoords[v].x) || !std::isfinite(p.texcoords[v].y)) {
-          ctx_.fail(attr("TEXCOORD_0") + ": vertex " + std::to_string(v) + " is not finite (NaN or Inf)");
-        }
-      }
-    } else if (material && uses_texcoords(*material)) {
-      ctx_.fail(label_ + " has no TEXCOORD_0 but its material " + std::to_string(src.material) + " has textures");
-    }
+    p.texcoords = load_texcoords(src, 0, material);
+    p.texcoords1 = load_texcoords(src, 1, material);
     if (auto it = src.attributes.find("COLOR_0"); it != src.attributes.end()) {
       FloatAccessor colors = read_float_accessor(ctx_, it->second, attr("COLOR_0"),
-                                                 {TINYGLTF_TYPE_VEC3, TINYGLTF_TYPE_VEC4}, true);
+                                                 {TINYGLTF_TYPE_VEC3, TINYGLTF_TYPE_VEC4}, AttributeKind::Color);
       p.colors.resize(n);
       for (size_t v = 0; v < n; ++v) {
         glm::vec4 c(1.0f);
@@ -88,9 +82,20 @@ class PrimitiveLoader {
         p.colors[v] = c;
       }
     }
+    const bool has_normals = src.attributes.count("NORMAL") > 0;
+    // Flat normals need a vertex per corner where a vertex joins faces of
+    // different orientations.
+    if (!has_normals && !faces_agree_at_vertices(p.positions, p.indices)) unweld(p);
     load_normals(src, p);
-    bool needs_tangents = material && material->normal.valid();
-    load_tangents(src, p, needs_tangents);
+    const bool needs_tangents = material && material->normal.valid();
+    const std::vector<glm::vec2>& tangent_uv = material && material->normal.texcoord == 1 ? p.texcoords1 : p.texcoords;
+    if (has_normals) {
+      load_tangents(src, p, needs_tangents, tangent_uv);
+    } else if (needs_tangents) {
+      // glTF: without NORMAL, provided tangents must be ignored too.
+      p.tangents = generate_tangents(p.positions, p.normals, tangent_uv, p.indices);
+      generated_tangents_ = true;
+    }
 
     p.bounds_min = p.bounds_max = p.positions[0];
     for (const glm::vec3& v : p.positions) {
@@ -100,8 +105,50 @@ class PrimitiveLoader {
     return p;
   }
 
+   // Which fallbacks this primitive took (the loader warns once per file).
+  bool generated_normals() const { return generated_normals_; }
+  bool generated_tangents() const { return generated_tangents_; }
+
  private:
   std::string attr(const std::string& name) const { return label_ + " attribute " + name; }
+
+  // TEXCOORD_<set>, required when a texture of the material reads it; empty
+  // when absent and unused.
+  std::vector<glm::vec2> load_texcoords(const tinygltf::Primitive& src, int set, const Material* material) {
+    const std::string name = "TEXCOORD_" + std::to_string(set);
+    auto it = src.attributes.find(name);
+    if (it == src.attributes.end()) {
+      if (material && uses_texcoords(*material, set)) {
+        ctx_.fail(label_ + " has no " + name + " but a texture of its material " + std::to_string(src.material) +
+                  " reads it");
+      }
+      return {};
+    }
+    std::vector<glm::vec2> uv = to_vectors<glm::vec2>(
+        read_float_accessor(ctx_, it->second, attr(name), {TINYGLTF_TYPE_VEC2}, AttributeKind::Texcoord));
+    for (size_t v = 0; v < uv.size(); ++v) {
+      if (!std::isfinite(uv[v].x) || !std::isfinite(uv[v].y)) {
+        ctx_.fail(attr(name) + ": vertex " + std::to_string(v) + " is not finite (NaN or Inf)");
+      }
+    }
+    return uv;
+  }
+
+  // One vertex per triangle corner (streams copied, indices 0..3T-1): glTF
+  // asks for flat normals where a primitive has none.
+  static void unweld(Primitive& p) {
+    auto expand = [&p](auto& stream) {
+      if (stream.empty()) return;
+      std::remove_reference_t<decltype(stream)> out(p.indices.size());
+      for (size_t i = 0; i < p.indices.size(); ++i) out[i] = stream[p.indices[i]];
+      stream = std::move(out);
+    };
+    expand(p.positions);
+    expand(p.texcoords);
+    expand(p.texcoords1);
+    expand(p.colors);
+    std::iota(p.indices.begin(), p.indices.end(), 0u);
+  }
 
   std::vector<uint32_t> read_indices(const tinygltf::Primitive& src, int mode, size_t vertex_count) {
     std::vector<uint32_t> idx;
@@ -139,10 +186,11 @@ class PrimitiveLoader {
   void load_normals(const tinygltf::Primitive& src, Primitive& p) {
     auto it = src.attributes.find("NORMAL");
     if (it == src.attributes.end()) {
-      p.normals = generate_normals(p.positions, p.indices);
+      p.normals = generate_normals(p.positions, p.indices);  // flat: the primitive was unwelded
+      generated_normals_ = true;
       return;
     }
-    p.normals = to_vectors<glm::vec3>(read_float_accessor(ctx_, it->second, attr("NORMAL"), {TINYGLTF_TYPE_VEC3}, false));
+    p.normals = to_vectors<glm::vec3>(read_float_accessor(ctx_, it->second, attr("NORMAL"), {TINYGLTF_TYPE_VEC3}, AttributeKind::Normal));
     std::vector<glm::vec3> generated;
     size_t bad = 0;
     for (size_t v = 0; v < p.normals.size(); ++v) {
@@ -161,13 +209,16 @@ class PrimitiveLoader {
     }
   }
 
-  void load_tangents(const tinygltf::Primitive& src, Primitive& p, bool needed) {
+  void load_tangents(const tinygltf::Primitive& src, Primitive& p, bool needed, const std::vector<glm::vec2>& uv) {
     auto it = src.attributes.find("TANGENT");
     if (it == src.attributes.end()) {
-      if (needed) p.tangents = generate_tangents(p.positions, p.normals, p.texcoords, p.indices);
+      if (needed) {
+        p.tangents = generate_tangents(p.positions, p.normals, uv, p.indices);
+        generated_tangents_ = true;
+      }
       return;
     }
-    FloatAccessor t = read_float_accessor(ctx_, it->second, attr("TANGENT"), {TINYGLTF_TYPE_VEC4}, false);
+    FloatAccessor t = read_float_accessor(ctx_, it->second, attr("TANGENT"), {TINYGLTF_TYPE_VEC4}, AttributeKind::Tangent);
     p.tangents = to_vectors<glm::vec4>(t);
     std::vector<glm::vec4> generated;
     size_t bad = 0;
@@ -181,7 +232,7 @@ class PrimitiveLoader {
         tv = glm::vec4(xyz / len, tv.w < 0.0f ? -1.0f : 1.0f);
         continue;
       }
-      if (generated.empty()) generated = generate_tangents(p.positions, p.normals, p.texcoords, p.indices);
+      if (generated.empty()) generated = generate_tangents(p.positions, p.normals, uv, p.indices);
       tv = generated[v];
       ++bad;
     }
@@ -194,13 +245,15 @@ class PrimitiveLoader {
   const GltfContext& ctx_;
   const std::vector<Material>& materials_;
   std::string label_;
+  bool generated_normals_ = false;
+  bool generated_tangents_ = false;
 };
 
 }  // namespace
 
 GltfMeshes load_meshes(const GltfContext& ctx, const std::vector<Material>& materials) {
   GltfMeshes out;
-  size_t skipped = 0;
+  size_t skipped = 0, flat = 0, tangents = 0;
   for (size_t mi = 0; mi < ctx.model.meshes.size(); ++mi) {
     const tinygltf::Mesh& src = ctx.model.meshes[mi];
     Mesh mesh;
@@ -209,6 +262,8 @@ GltfMeshes load_meshes(const GltfContext& ctx, const std::vector<Material>& mate
     for (size_t pi = 0; pi < src.primitives.size(); ++pi) {
       PrimitiveLoader loader(ctx, materials, gltf_label("mesh", mi, src.name) + " primitive " + std::to_string(pi));
       std::optional<Primitive> p = loader.load(src.primitives[pi]);
+      flat += loader.generated_normals();
+      tangents += loader.generated_tangents();
       if (p) {
         index_map.push_back(static_cast<int>(mesh.primitives.size()));
         mesh.primitives.push_back(std::move(*p));
@@ -222,6 +277,11 @@ GltfMeshes load_meshes(const GltfContext& ctx, const std::vector<Material>& mate
   }
   if (skipped > 0) {
     ctx.warn(std::to_string(skipped) + " primitive(s) are points, lines or have no POSITION; they are not rendered");
+  }
+  if (flat > 0) ctx.warn(std::to_string(flat) + " primitive(s) have no NORMAL; flat normals are generated");
+  if (tangents > 0) {
+    ctx.warn(std::to_string(tangents) + " normal-mapped primitive(s) have no TANGENT; tangents are generated "
+             "(MikkTSpace convention)");
   }
   return out;
 }

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <map>
+#include <set>
 #include <vector>
 
 #include "engine/core/error.h"
@@ -207,7 +208,13 @@ void check_buffer_views(const std::string& path, const nlohmann::json& doc) {
 
 }  // namespace
 
-bool gltf_extension_supported(const std::string& name) { return name == "KHR_lights_punctual"; }
+bool gltf_extension_supported(const std::string& name) {
+  // One line per extension (README: "glTF support").
+  static const std::set<std::string> supported = {
+      "KHR_lights_punctual",
+  };
+  return supported.count(name) > 0;
+}
 
 void validate_gltf_schema(const std::string& path, const nlohmann::json& doc) {
   if (!doc.is_object()) throw InputError(path, "invalid glTF: the document must be a JSON object");

@@ -50,6 +50,25 @@ std::vector<glm::vec3> generate_normals(const std::vector<glm::vec3>& positions,
   return out;
 }
 
+bool faces_agree_at_vertices(const std::vector<glm::vec3>& positions, const std::vector<uint32_t>& indices) {
+  std::vector<glm::dvec3> first(positions.size(), glm::dvec3(0.0));
+  for (size_t t = 0; t + 2 < indices.size(); t += 3) {
+    const uint32_t i0 = indices[t], i1 = indices[t + 1], i2 = indices[t + 2];
+    const glm::dvec3 p0(positions[i0]);
+    const glm::dvec3 n = glm::cross(glm::dvec3(positions[i1]) - p0, glm::dvec3(positions[i2]) - p0);
+    const double len = glm::length(n);
+    if (!(len > 0.0) || !std::isfinite(len)) continue;
+    for (uint32_t i : {i0, i1, i2}) {
+      if (first[i] == glm::dvec3(0.0)) {
+        first[i] = n / len;
+      } else if (glm::dot(first[i], n / len) < 1.0 - 1e-6) {
+        return false;
+      }
+    }
+  }
+  return true;
+}
+
 glm::vec3 any_orthogonal(const glm::vec3& n) {
   glm::vec3 axis = std::abs(n.x) < 0.9f ? glm::vec3(1.0f, 0.0f, 0.0f) : glm::vec3(0.0f, 1.0f, 0.0f);
   return glm::normalize(glm::cross(n, axis));
@@ -71,7 +90,10 @@ std::vector<glm::vec4> generate_tangents(const std::vector<glm::vec3>& positions
       double det = d1.x * d2.y - d2.x * d1.y;
       if (!(std::abs(det) > 1e-20)) continue;  // degenerate UV mapping: no information
       glm::dvec3 t_dir = (e1 * d2.y - e2 * d1.y) / det;
-      glm::dvec3 b_dir = (e2 * d1.x - e1 * d2.x) / det;
+      // dP/dv points where v grows, down the image: glTF's normal maps (and
+      // MikkTSpace run on the 1 - v that exporters use) point +Y up the
+      // image, along -dP/dv.
+      glm::dvec3 b_dir = -(e2 * d1.x - e1 * d2.x) / det;
       for (uint32_t i : {i0, i1, i2}) {
         tan[i] += t_dir;
         bitan[i] += b_dir;

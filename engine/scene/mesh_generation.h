@@ -19,14 +19,22 @@ std::vector<uint32_t> triangulate_fan(const std::vector<uint32_t>& fan);
 std::vector<glm::vec3> generate_normals(const std::vector<glm::vec3>& positions,
                                         const std::vector<uint32_t>& indices);
 
-// Per-vertex tangents for normal mapping: each triangle's UV-derivative tangent
-// and bitangent (Lengyel's method) are summed per vertex, the tangent is
-// Gram-Schmidt orthogonalised against the vertex normal, and w holds the
-// handedness (+1 or -1) so that bitangent = w * cross(normal, tangent).
-// MikkTSpace, the reference glTF tangent space, is not packaged for Debian;
-// this gives the same frames for well-parameterised meshes and differs only
-// where UV charts are split or degenerate. Vertices without usable UVs get an
-// arbitrary unit tangent orthogonal to the normal.
+// Whether every vertex is shared only by triangles of one orientation (unit
+// face normals within 1e-6 of each other; zero-area triangles ignored): then
+// generate_normals gives each vertex the flat normal of all its triangles,
+// and flat shading needs no vertex split.
+bool faces_agree_at_vertices(const std::vector<glm::vec3>& positions, const std::vector<uint32_t>& indices);
+
+// Per-vertex tangents for normal mapping, in the tangent space glTF asks
+// for (MikkTSpace's conventions): the tangent follows +U, and the bitangent
+// cross(normal, tangent) * w points towards the image's top, i.e. where v
+// (whose origin is the image's top-left corner in glTF) decreases; w is +1
+// or -1. Each triangle's UV-derivative tangent and bitangent (Lengyel's
+// method) are summed per vertex, and the tangent is Gram-Schmidt
+// orthogonalised against the vertex normal. MikkTSpace itself is not
+// packaged for Debian; this gives its frames for well-parameterised meshes
+// and differs only where UV charts are split or degenerate. Vertices without
+// usable UVs get an arbitrary unit tangent orthogonal to the normal.
 std::vector<glm::vec4> generate_tangents(const std::vector<glm::vec3>& positions,
                                          const std::vector<glm::vec3>& normals,
                                          const std::vector<glm::vec2>& texcoords,

@@ -7,6 +7,7 @@
 // matrix. Triangles only (strips/fans converted at load); indices are 32-bit.
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -47,11 +48,22 @@ struct Image {
   std::vector<MipLevel> mips;  // mips[0] is full resolution, down to 1x1
 };
 
+// KHR_texture_transform of one texture reference: uv' = T * R * S * uv with
+// the extension's offset, rotation (radians, counter-clockwise in UV space as
+// the extension defines it) and scale.
+struct UvTransform {
+  glm::vec2 offset{0.0f};
+  float rotation = 0.0f;
+  glm::vec2 scale{1.0f};
+  bool identity() const { return offset == glm::vec2(0.0f) && rotation == 0.0f && scale == glm::vec2(1.0f); }
+};
+
 struct TextureRef {
   int image = -1;     // index into Scene::images, -1 = none
   int sampler = -1;   // index into Scene::samplers, -1 = default sampler
-  int texcoord = 0;   // only TEXCOORD_0 is loaded; other sets are rejected at load
+  int texcoord = 0;   // 0: TEXCOORD_0, 1: TEXCOORD_1 (after KHR_texture_transform's texCoord override)
   float scale = 1.0f; // normalTexture.scale or occlusionTexture.strength
+  UvTransform transform;  // KHR_texture_transform (identity without it)
   bool valid() const { return image >= 0; }
 };
 
@@ -67,10 +79,12 @@ struct Material {
   TextureRef normal;              // scale in TextureRef::scale
   TextureRef occlusion;           // strength in TextureRef::scale
   glm::vec3 emissive_factor{0.0f};
+  float emissive_strength = 1.0f;  // KHR_materials_emissive_strength (multiplies emissive_factor)
   TextureRef emissive;
   AlphaMode alpha_mode = AlphaMode::Opaque;
   float alpha_cutoff = 0.5f;
   bool double_sided = false;
+  bool unlit = false;  // KHR_materials_unlit: radiance = base colour (times the emissive convention), no lighting
 };
 
 // Vertex streams of one primitive, all of equal length. Optional streams are
@@ -81,6 +95,7 @@ struct Primitive {
   std::vector<glm::vec3> normals;
   std::vector<glm::vec4> tangents;   // xyz tangent, w = bitangent sign
   std::vector<glm::vec2> texcoords;  // TEXCOORD_0
+  std::vector<glm::vec2> texcoords1; // TEXCOORD_1 (loaded when a material texture uses it)
   std::vector<glm::vec4> colors;     // COLOR_0 (linear RGBA)
   std::vector<uint32_t> indices;     // triangle list, 3 per triangle
   int material = -1;                 // -1 = default material
@@ -105,7 +120,7 @@ struct Draw {
   glm::vec3 world_bounds_max{0.0f};
 };
 
-// A perspective camera from the glTF file (placed by its node).
+// A camera from the glTF file (placed by its node).
 struct GltfCamera {
   std::string name;
   glm::vec3 position{0.0f};
@@ -114,6 +129,12 @@ struct GltfCamera {
   float yfov_rad = 0.8f;
   float znear = 0.1f;
   std::optional<float> aspect;
+  // Orthographic cameras: half the view's height and width in metres (ymag,
+  // xmag) and the far plane; yfov_rad is unused for them.
+  bool orthographic = false;
+  float ymag = 1.0f;
+  float xmag = 1.0f;
+  float zfar = 100.0f;
 };
 
 // KHR_lights_punctual directional light, used as the sun.
@@ -122,6 +143,26 @@ struct GltfSun {
   glm::vec3 color{1.0f};
   float intensity = 1.0f;  // lux
 };
+
+// KHR_lights_punctual point or spot light, placed by its node. Intensity is
+// luminous intensity in candela (lm/sr); illuminance at distance d is
+// intensity / d^2 times the range window and, for spots, the cone falloff.
+struct PunctualLight {
+  enum class Type : uint8_t { Point, Spot };
+  Type type = Type::Point;
+  std::string name;
+  glm::vec3 position{0.0f};                  // world space
+  glm::vec3 direction{0.0f, 0.0f, -1.0f};    // unit, world space: where a spot shines (its node's -Z)
+  glm::vec3 color{1.0f};                     // linear RGB
+  float intensity = 1.0f;                    // candela
+  float range = 0.0f;                        // 0: unlimited; else the distance where the light reaches zero
+  float inner_cone_rad = 0.0f;               // spots: full intensity inside this angle from direction
+  float outer_cone_rad = 0.7853982f;         // spots: zero outside this angle
+};
+
+// Skins, animations and morph targets kept from the file to pose the scene at
+// a time (scene_animation.h); draws and primitives hold the pose.
+struct SceneAnimation;
 
 struct Scene {
   std::string source;  // path of the glTF file
@@ -132,6 +173,8 @@ struct Scene {
   std::vector<Draw> draws;
   std::vector<GltfCamera> cameras;
   std::optional<GltfSun> sun;
+  std::vector<PunctualLight> lights;  // point and spot lights (KHR_lights_punctual)
+  std::shared_ptr<const SceneAnimation> animation;  // null when the file has nothing to animate
   glm::vec3 bounds_min{0.0f};  // world AABB of all draws
   glm::vec3 bounds_max{0.0f};
 

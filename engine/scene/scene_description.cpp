@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <filesystem>
 
 #include "engine/core/error.h"
@@ -103,8 +104,13 @@ SunSpec parse_sun(const JsonObject& o) {
 
 }  // namespace
 
+float emissive_luminance(const SceneDescription& d) {
+  return d.emissive_nits ? *d.emissive_nits : 1.2f * std::exp2(d.exposure_ev100);
+}
+
 SceneDescription load_scene_description(const std::string& path,
-                                        const std::vector<std::string>& plugin_sections) {
+                                        const std::vector<std::string>& plugin_sections,
+                                        const std::vector<std::string>& asset_dirs) {
   SceneDescription d;
   d.path = path;
   if (has_gltf_extension(path)) {
@@ -128,7 +134,13 @@ SceneDescription load_scene_description(const std::string& path,
       fs::path p(rel);
       d.gltf_path = p.is_absolute() ? p.string() : (fs::path(path).parent_path() / p).string();
       if (!has_gltf_extension(d.gltf_path)) root.fail(key, "must name a .gltf or .glb file, found \"" + rel + "\"");
-      if (!fs::is_regular_file(d.gltf_path)) root.fail(key, "names a file that does not exist: " + d.gltf_path);
+      std::string looked_in = d.gltf_path;
+      for (size_t i = 0; !p.is_absolute() && !fs::is_regular_file(d.gltf_path) && i < asset_dirs.size(); ++i) {
+        const std::string candidate = (fs::path(asset_dirs[i]) / p).string();
+        looked_in += ", " + candidate;
+        if (fs::is_regular_file(candidate)) d.gltf_path = candidate;
+      }
+      if (!fs::is_regular_file(d.gltf_path)) root.fail(key, "names a file that does not exist (looked for " + looked_in + ")");
     } else if (key == "camera") {
       d.camera = parse_camera(root.object("camera"));
     } else if (key == "sun") {
@@ -139,10 +151,12 @@ SceneDescription load_scene_description(const std::string& path,
       d.ambient = parse_color(root, "ambient");
     } else if (key == "frames") {
       d.frames = root.integer("frames", 1, kMaxFrames);
+    } else if (key == "emissive_nits") {
+      d.emissive_nits = static_cast<float>(root.number("emissive_nits", {0.0, 1e9}));
     } else if (std::find(plugin_sections.begin(), plugin_sections.end(), key) != plugin_sections.end()) {
       d.plugins[key] = doc.at(key);  // validated by the plugin that owns the section
     } else {
-      std::string allowed = "gltf, camera, sun, exposure_ev100, ambient, frames";
+      std::string allowed = "gltf, camera, sun, exposure_ev100, ambient, frames, emissive_nits";
       for (const std::string& s : plugin_sections) allowed += ", " + s;
       throw InputError(path, "unknown key '" + key + "' (allowed: " + allowed + ")");
     }

@@ -50,11 +50,23 @@ struct SceneDescription {
   float exposure_ev100 = 15.0f;  // photographic exposure; pixel = L / (1.2 * 2^EV100)
   glm::vec3 ambient{0.0f};      // fallback ambient radiance (cd/m^2) when no plugin supplies sky light
   int frames = 1;               // default frame count of the scene (CLI overrides)
+  // Luminance (cd/m^2) of glTF emissive colour 1.0 (emissive factor times
+  // texture times KHR_materials_emissive_strength) and of an unlit (KHR_materials_unlit)
+  // base colour of 1.0. nullopt: the luminance the exposure maps to 1.0,
+  // 1.2 * 2^EV100 (emissive_luminance), so glTF emissive reads as intended.
+  std::optional<float> emissive_nits;
   nlohmann::json plugins = nlohmann::json::object();  // "atmosphere", "fog", ... sections
 };
 
+// Luminance of emissive 1.0 for the scene: emissive_nits, or 1.2 * 2^EV100.
+float emissive_luminance(const SceneDescription& d);
+
 // Loads a scene file or a bare .gltf/.glb. Throws InputError naming file and field.
+// A relative "gltf" path is looked up next to the scene file, then in each of
+// `asset_dirs` (the CLI passes the build's scenes/, where the generated
+// default.glb lives, so shipped scene files also work from the source tree).
 SceneDescription load_scene_description(const std::string& path,
-                                        const std::vector<std::string>& plugin_sections);
+                                        const std::vector<std::string>& plugin_sections,
+                                        const std::vector<std::string>& asset_dirs = {});
 
 }  // namespace cr

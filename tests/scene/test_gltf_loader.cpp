@@ -192,7 +192,7 @@ TEST_CASE("bad normals (BoxBadNormals) are replaced by generated ones") {
 }
 
 TEST_CASE("tangents are generated for normal-mapped materials, orthogonal to the normals") {
-  // A quad in the XY plane with U along +X and V along -Y (bitangent flipped).
+  // A quad in the XY plane with U along +X and V along -Y (the image's top up).
   GltfBuilder b;
   int pos = b.floats({0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0}, "VEC3", 3);
   int uv = b.floats({0, 1, 1, 1, 1, 0, 0, 0}, "VEC2", 2);
@@ -209,7 +209,8 @@ TEST_CASE("tangents are generated for normal-mapped materials, orthogonal to the
     CHECK(std::abs(glm::length(t) - 1.0f) < 1e-5f);
     CHECK(std::abs(glm::dot(t, p.normals[v])) < 1e-5f);
     CHECK(glm::dot(t, glm::vec3(1.0f, 0.0f, 0.0f)) > 0.999f);  // along +U
-    CHECK(p.tangents[v].w == -1.0f);  // V runs along -Y: left-handed frame
+    // V runs along -Y, so the image's top (decreasing v) is +Y = cross(N, T): w = +1.
+    CHECK(p.tangents[v].w == 1.0f);
   }
   const cr::Material& m = s.materials.at(0);
   REQUIRE(m.normal.valid());

@@ -42,13 +42,16 @@ TEST_CASE("generated tangents are unit, orthogonal to the normal, with handednes
   std::vector<glm::vec3> pos = {{0, 0, 0}, {1, 0, 0.2f}, {1, 1, 0.4f}, {0, 1, 0.1f}};
   std::vector<uint32_t> idx = {0, 1, 2, 0, 2, 3};
   std::vector<glm::vec3> n = cr::generate_normals(pos, idx);
+  // glTF's v grows down the image and a normal map's +Y points up it: with v
+  // growing along +Y the bitangent cross(N, T) * w (+Y for w = 1) must point
+  // along -Y, so w = -1; with v growing along -Y, w = +1.
   for (float flip : {1.0f, -1.0f}) {
     std::vector<glm::vec2> uv = {{0, 0}, {1, 0}, {1, flip}, {0, flip}};
     std::vector<glm::vec4> t = cr::generate_tangents(pos, n, uv, idx);
     for (size_t v = 0; v < pos.size(); ++v) {
       CHECK(std::abs(glm::length(glm::vec3(t[v])) - 1.0f) < 1e-5f);
       CHECK(std::abs(glm::dot(glm::vec3(t[v]), n[v])) < 1e-5f);
-      CHECK(t[v].w == flip);
+      CHECK(t[v].w == -flip);
       CHECK(t[v].x > 0.9f);  // U runs along +X
     }
   }
