@@ -3,6 +3,7 @@
 #include <cstdio>
 
 #include "engine/cli/paths.h"
+#include "engine/cli/scene_overrides.h"
 #include "engine/core/error.h"
 #include "engine/output/exr_io.h"
 #include "engine/output/png_io.h"
@@ -16,6 +17,7 @@ void add_scene_options(ArgParser& p) {
       .option("frames", "N", "number of frames (default: the scene's)")
       .option("threads", "N", "worker threads including the main thread (default: all cores)")
       .flag("allow-missing-images", "render with factor-only materials where image files are missing");
+  add_scene_override_options(p);
 }
 
 std::pair<int, int> parse_resolution(const std::string& text, const std::string& command) {
@@ -50,7 +52,9 @@ RunSetup load_run_setup(const ArgParser& p, const PluginRegistry& registry) {
   if (p.has("resolution")) std::tie(w, h) = parse_resolution(p.get("resolution"), "render");
   const unsigned threads = p.has("threads") ? unsigned(p.get_int("threads", 1, 1024)) : 0;
   const std::string scene = p.positional().empty() ? default_scene_path() : p.positional()[0];
+  const SceneOverrides overrides = parse_scene_overrides(p, "render");
   RunSetup s = load_run(scene, p.get("profile"), registry, w, h, threads, p.has("allow-missing-images"));
+  apply_scene_overrides(overrides, s.description);
   if (p.has("frames")) s.frames = p.get_int("frames", 1, 1000000);
   return s;
 }

@@ -25,7 +25,8 @@ struct RunSetup {
 
 // "WxH" with 1..16384 each; UsageError naming `command` otherwise.
 std::pair<int, int> parse_resolution(const std::string& text, const std::string& command);
-// --profile, --resolution, --frames, --threads, --allow-missing-images.
+// --profile, --resolution, --frames, --threads, --allow-missing-images and
+// the scene overrides (scene_overrides.h: --camera, --sun, --sky, --exposure).
 void add_scene_options(ArgParser& p);
 // Loads scene (positional 0 or the default scene), profile and glTF, applying overrides.
 RunSetup load_run_setup(const ArgParser& p, const PluginRegistry& registry);

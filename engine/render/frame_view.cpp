@@ -22,9 +22,24 @@ std::pair<size_t, double> segment(const std::vector<Key>& keys, int frame) {
   return {keys.size() - 1, 0.0};
 }
 
+// The view a model viewer opens with: from the front-right (glTF models face
+// +Z), somewhat above, the bounding sphere filling the narrower field of view.
+Camera three_quarter_view(const Scene& scene, float aspect) {
+  const glm::dvec3 lo(scene.bounds_min), hi(scene.bounds_max);
+  const glm::dvec3 centre = 0.5 * (lo + hi);
+  const double radius = std::max(1e-3, 0.5 * glm::length(hi - lo));
+  const float vfov = glm::radians(40.0f);
+  const double half_fov = std::min(0.5 * double(vfov), std::atan(std::tan(0.5 * double(vfov)) * double(aspect)));
+  const double dist = radius / std::sin(half_fov) * 1.05;
+  const double az = glm::radians(35.0), el = glm::radians(15.0);
+  const glm::dvec3 dir(std::sin(az) * std::cos(el), std::sin(el), std::cos(az) * std::cos(el));
+  return Camera::look_at(centre + dir * dist, centre, vfov, aspect, float(std::max(1e-4, (dist - radius) * 0.5)));
+}
+
 Camera camera_for(const Scene& scene, const SceneDescription& d, int frame, float aspect, bool* cut) {
   *cut = false;
   const CameraSpec& spec = d.camera;
+  if (spec.auto_frame) return three_quarter_view(scene, aspect);
   if (!spec.keys.empty()) {
     auto [i, t] = segment(spec.keys, frame);
     const CameraKey& a = spec.keys[i];
@@ -42,14 +57,7 @@ Camera camera_for(const Scene& scene, const SceneDescription& d, int frame, floa
                                  c.yfov_rad, aspect, c.znear);
     return cam;
   }
-  // No camera anywhere: frame the scene bounds from the front, slightly above.
-  const glm::dvec3 lo(scene.bounds_min), hi(scene.bounds_max);
-  const glm::dvec3 centre = 0.5 * (lo + hi);
-  const double radius = std::max(1e-3, 0.5 * glm::length(hi - lo));
-  const float vfov = glm::radians(45.0f);
-  const double dist = radius / std::sin(0.5 * vfov) * 1.1;
-  const glm::dvec3 dir = glm::normalize(glm::dvec3(0.0, 0.35, 1.0));
-  return Camera::look_at(centre + dir * dist, centre, vfov, aspect, float(std::max(1e-3, dist * 1e-3)));
+  return three_quarter_view(scene, aspect);
 }
 
 }  // namespace
@@ -81,8 +89,8 @@ FrameView make_frame_view(const Scene& scene, const SceneDescription& d, int fra
     v.sun_direction = scene.sun->direction_to_sun;
     v.sun_illuminance = scene.sun->color * sun.illuminance;
   } else {
-    // No sun anywhere: light from behind the default viewpoint's right shoulder.
-    v.sun_direction = sun_direction(30.0f, 50.0f);
+    // No sun anywhere: light from over the three-quarter view's right shoulder.
+    v.sun_direction = sun_direction(75.0f, 45.0f);
     v.sun_illuminance = sun.color * sun.illuminance;
   }
   return v;

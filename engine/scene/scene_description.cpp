@@ -41,7 +41,11 @@ CameraKey parse_camera_key(const JsonObject& o, bool with_frame) {
 
 CameraSpec parse_camera(const JsonObject& o) {
   CameraSpec c;
-  if (o.has("gltf_camera")) {
+  if (o.has("auto")) {
+    o.allow_only({"auto"});
+    if (!o.boolean("auto")) o.fail("auto", "may only be true; give \"gltf_camera\", \"position\" or \"keys\" instead");
+    c.auto_frame = true;
+  } else if (o.has("gltf_camera")) {
     o.allow_only({"gltf_camera"});
     c.gltf_camera = o.integer("gltf_camera", 0, 1 << 20);
   } else if (o.has("keys")) {
@@ -57,7 +61,7 @@ CameraSpec parse_camera(const JsonObject& o) {
     o.allow_only({"position", "target", "vfov_deg", "znear"});
     c.keys.push_back(parse_camera_key(o, false));
   } else {
-    throw InputError(o.file(), "'camera' needs one of: \"gltf_camera\", \"position\"+\"target\", or \"keys\"");
+    throw InputError(o.file(), "'camera' needs one of: \"auto\": true, \"gltf_camera\", \"position\"+\"target\", or \"keys\"");
   }
   if (o.has("znear")) c.znear = static_cast<float>(o.number("znear", kZnear));
   return c;

@@ -23,6 +23,9 @@ struct CameraKey {
 };
 
 struct CameraSpec {
+  // A three-quarter view fitting the scene's bounds (what a bare glTF without
+  // a camera gets, and "camera": {"auto": true} / --camera auto).
+  bool auto_frame = false;
   std::optional<int> gltf_camera;  // use the glTF camera with this index
   std::vector<CameraKey> keys;     // explicit keys (used when no gltf_camera)
   float znear = 0.1f;              // reversed-Z infinite projection: no far plane
