@@ -1,21 +1,29 @@
 #include "atmosphere/atmosphere_plugin.h"
 
 #include <cmath>
+#include <iostream>
 
 #include "atmosphere/sky_commands.h"
 #include "atmosphere/sky_composite.h"
 #include "atmosphere/sky_lighting.h"
 #include "engine/render/frame_graph.h"
+#include "engine/render/frame_view.h"
 
 namespace cr {
 
 bool AtmospherePlugin::configure(const Scene& scene, const SceneDescription& description, const Profile& profile) {
-  (void)scene;
   auto it = description.plugins.find("atmosphere");
   if (it == description.plugins.end() || it->is_null()) return false;
   scene_ = parse_atmosphere_scene(*it, description.path);
   auto pit = profile.plugins.find("atmosphere");
   settings_ = parse_atmosphere_settings(pit == profile.plugins.end() ? nlohmann::json() : *pit, profile.path);
+  if (orthographic_view(scene, description)) {
+    // The sky view, the aerial perspective froxels and the composite are
+    // built on a perspective view's rays.
+    std::cerr << description.path << ": warning: the atmosphere needs a perspective view; the orthographic "
+              << "camera's frames are lit by the scene's ambient and sun alone\n";
+    return false;
+  }
   scheduler_ = std::make_unique<LutScheduler>(settings_);
   scheduler_->set_model(scene_.model);
   return true;

@@ -11,6 +11,7 @@
 #include "engine/output/percentile.h"
 #include "engine/render/composite_strips.h"
 #include "engine/scene/gltf_loader.h"
+#include "engine/scene/scene_animation.h"
 
 namespace cr {
 
@@ -39,7 +40,7 @@ FogRun load_fog_run(const ArgParser& args, const PluginRegistry& registry) {
   if (args.has("resolution"))
     std::tie(run.profile.width, run.profile.height) = parse_resolution(args.get("resolution"), "fog");
   const std::string& scene = args.positional().at(0);
-  run.description = load_scene_description(scene, sections, {executable_dir() + "/scenes"});
+  run.description = load_scene_description(scene, sections, scene_asset_dirs());
   if (!run.description.plugins.contains("fog"))
     throw InputError(scene, "has no \"fog\" section: nothing to measure");
   run.fog_scene = parse_fog_scene(run.description.plugins.at("fog"), run.description.path);
@@ -49,6 +50,7 @@ FogRun load_fog_run(const ArgParser& args, const PluginRegistry& registry) {
   GltfLoadOptions options;
   options.texture_decode_budget = size_t(run.profile.texture_decode_budget_mb) << 20;
   run.scene = std::make_unique<Scene>(load_gltf(run.description.gltf_path, options));
+  pose_described_scene(*run.scene, run.description);  // the scene file's animation pose, else the rest pose
   return run;
 }
 

@@ -1,11 +1,13 @@
 #include "fog/fog_plugin.h"
 
+#include <iostream>
+
 #include "engine/render/frame_graph.h"
+#include "engine/render/frame_view.h"
 
 namespace cr {
 
 bool FogPlugin::configure(const Scene& scene, const SceneDescription& description, const Profile& profile) {
-  (void)scene;
   // The profile section is validated even when the scene has no fog, so a
   // bad profile is reported whatever scene it is used with.
   FogProfileSettings p;
@@ -13,6 +15,11 @@ bool FogPlugin::configure(const Scene& scene, const SceneDescription& descriptio
   fog_.reset();
   if (!description.plugins.contains("fog")) return false;
   const FogSceneSettings s = parse_fog_scene(description.plugins.at("fog"), description.path);
+  if (orthographic_view(scene, description)) {
+    std::cerr << description.path << ": warning: froxel fog needs a perspective view; the orthographic camera's "
+              << "frames have no fog\n";
+    return false;
+  }
   fog_ = std::make_unique<FroxelFog>(p, s);
   return true;
 }

@@ -25,6 +25,7 @@ BenchResult run_bench(const RunSetup& setup, unsigned threads, int frames, int w
                       const PluginRegistry& registry) {
   JobSystem jobs(threads);
   Renderer renderer(*setup.scene, setup.description, setup.profile, registry.create_all(), jobs);
+  attach_playback(renderer, setup);
   BenchResult r;
   for (int f = 0; f < warmup + frames; ++f) {
     // Frames follow the scene's camera path (a static camera for most scenes).

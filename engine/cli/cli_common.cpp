@@ -8,6 +8,7 @@
 #include "engine/output/exr_io.h"
 #include "engine/output/png_io.h"
 #include "engine/scene/gltf_loader.h"
+#include "engine/scene/scene_animation.h"
 
 namespace cr {
 
@@ -37,11 +38,12 @@ RunSetup load_run(const std::string& scene_path, const std::string& profile, con
     s.profile.width = width;
     s.profile.height = height;
   }
-  s.description = load_scene_description(scene_path, sections, {executable_dir() + "/scenes"});
+  s.description = load_scene_description(scene_path, sections, scene_asset_dirs());
   GltfLoadOptions options;
   options.allow_missing_images = allow_missing_images;
   options.texture_decode_budget = size_t(s.profile.texture_decode_budget_mb) << 20;
   s.scene = std::make_shared<Scene>(load_gltf(s.description.gltf_path, options));
+  pose_described_scene(*s.scene, s.description);  // the scene file's animation pose, else the rest pose
   s.threads = threads > 0 ? threads : JobSystem::default_thread_count();
   s.frames = s.description.frames;
   return s;
@@ -57,6 +59,17 @@ RunSetup load_run_setup(const ArgParser& p, const PluginRegistry& registry) {
   apply_scene_overrides(overrides, s.description);
   if (p.has("frames")) s.frames = p.get_int("frames", 1, 1000000);
   return s;
+}
+
+void attach_playback(Renderer& renderer, const RunSetup& setup) {
+  const SceneDescription& d = setup.description;
+  if (!d.animation || !d.animation->fps) return;
+  const std::optional<size_t> animation = described_animation(*setup.scene, d);
+  std::shared_ptr<Scene> scene = setup.scene;
+  const AnimationSpec spec = *d.animation;
+  renderer.play_animation([scene, animation, spec](int frame) {
+    pose_scene(*scene, *scene->animation, animation, spec.time_at(frame));
+  });
 }
 
 RunReport make_run_report(const RunSetup& setup, const JobSystem& jobs) {

@@ -34,6 +34,10 @@ RunSetup load_run_setup(const ArgParser& p, const PluginRegistry& registry);
 RunSetup load_run(const std::string& scene_path, const std::string& profile, const PluginRegistry& registry,
                   int width, int height, unsigned threads, bool allow_missing_images);
 
+// Runs the scene file's animation over the frames (animation.fps) on the
+// renderer of `setup`'s scene; nothing for a still scene.
+void attach_playback(Renderer& renderer, const RunSetup& setup);
+
 RunReport make_run_report(const RunSetup& setup, const JobSystem& jobs);
 ReportFrame to_report_frame(const FrameRecord& record);
 

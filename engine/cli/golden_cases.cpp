@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <set>
 
+#include "engine/cli/paths.h"
 #include "engine/core/error.h"
 #include "engine/scene/scene_description.h"
 
@@ -52,7 +53,7 @@ std::vector<GoldenCase> discover_golden_cases(const std::string& scenes_dir,
     int last = 0;
     std::string error;
     try {
-      const SceneDescription d = load_scene_description(scene.string(), plugin_sections);
+      const SceneDescription d = load_scene_description(scene.string(), plugin_sections, scene_asset_dirs());
       last = golden_last_frame(d.frames, !d.plugins.empty());
     } catch (const Error& e) {
       error = e.what();

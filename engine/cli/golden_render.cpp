@@ -47,6 +47,8 @@ GoldenRender render_golden_case(const GoldenCase& c, const PluginRegistry& regis
   JobSystem jobs_one(1), jobs_many(threads);
   Renderer one(*setup.scene, setup.description, setup.profile, registry.create_all(), jobs_one);
   Renderer many(*setup.scene, setup.description, setup.profile, registry.create_all(), jobs_many);
+  attach_playback(one, setup);  // both pose the shared scene at the same frame's time
+  attach_playback(many, setup);
 
   GoldenRender r;
   r.threads = threads;

@@ -1,5 +1,6 @@
 #include "engine/cli/paths.h"
 
+#include <cstdlib>
 #include <filesystem>
 
 namespace cr {
@@ -18,5 +19,11 @@ std::string resolve_profile_path(const std::string& name_or_path) {
 }
 
 std::string default_scene_path() { return executable_dir() + "/scenes/default.json"; }
+
+std::vector<std::string> scene_asset_dirs() {
+  std::vector<std::string> dirs = {executable_dir() + "/scenes"};
+  if (const char* assets = std::getenv("CR_ASSETS_DIR"); assets && *assets) dirs.push_back(assets);
+  return dirs;
+}
 
 }  // namespace cr

@@ -43,6 +43,7 @@ int render_command(const std::vector<std::string>& args, const PluginRegistry& r
 
   JobSystem jobs(setup.threads);
   Renderer renderer(*setup.scene, setup.description, setup.profile, registry.create_all(), jobs);
+  attach_playback(renderer, setup);
   RunReport report = make_run_report(setup, jobs);
 
   for (int f = first; f < first + setup.frames; ++f) {

@@ -55,12 +55,25 @@ Camera camera_for(const Scene& scene, const SceneDescription& d, int frame, floa
     const GltfCamera& c = scene.cameras[index];
     Camera cam = Camera::look_at(glm::dvec3(c.position), glm::dvec3(c.position) + glm::dvec3(c.forward),
                                  c.yfov_rad, aspect, c.znear);
+    if (c.orthographic) {
+      // ymag is the half-height; the width follows the image's aspect, as
+      // yfov does for perspective cameras.
+      cam.orthographic = true;
+      cam.ortho_half_height = c.ymag;
+      cam.zfar = c.zfar;
+    }
     return cam;
   }
   return three_quarter_view(scene, aspect);
 }
 
 }  // namespace
+
+bool orthographic_view(const Scene& scene, const SceneDescription& d) {
+  if (d.camera.auto_frame || !d.camera.keys.empty()) return false;
+  const size_t index = size_t(d.camera.gltf_camera.value_or(0));
+  return index < scene.cameras.size() && scene.cameras[index].orthographic;
+}
 
 FrameView make_frame_view(const Scene& scene, const SceneDescription& d, int frame, int width, int height) {
   FrameView v;

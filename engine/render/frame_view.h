@@ -8,6 +8,10 @@ namespace cr {
 FrameView make_frame_view(const Scene& scene, const SceneDescription& description, int frame, int width,
                           int height);
 
+// Whether the description views the scene through an orthographic glTF
+// camera (plugins built on perspective froxels and sky views skip such views).
+bool orthographic_view(const Scene& scene, const SceneDescription& description);
+
 // Unit direction towards the sun for an azimuth (clockwise from +Z towards +X)
 // and elevation above the horizon, in degrees.
 glm::vec3 sun_direction(float azimuth_deg, float elevation_deg);

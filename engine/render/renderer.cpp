@@ -35,10 +35,23 @@ glm::mat4 model_to_clip(const glm::mat4& view_proj, const glm::dvec3& origin, co
   return glm::mat4(glm::dmat4(view_proj) * w);
 }
 
-// Conservative test of a world AABB against the camera frustum (infinite far).
+// Conservative test of a world AABB against the camera frustum (infinite far),
+// or an orthographic camera's box.
 bool aabb_in_view(const Camera& cam, const glm::vec3& lo, const glm::vec3& hi) {
   const glm::vec3 c = 0.5f * (lo + hi) - glm::vec3(cam.position);
   const glm::vec3 e = 0.5f * (hi - lo);
+  if (cam.orthographic) {
+    // Inward normals and the planes' distances from the camera.
+    const float hh = cam.ortho_half_height, hw = hh * cam.aspect;
+    const glm::vec3 normals[6] = {cam.right, -cam.right, cam.up, -cam.up, cam.forward, -cam.forward};
+    const float offsets[6] = {hw, hw, hh, hh, -cam.znear, cam.zfar};
+    for (int i = 0; i < 6; ++i) {
+      const glm::vec3& n = normals[i];
+      const float r = e.x * std::abs(n.x) + e.y * std::abs(n.y) + e.z * std::abs(n.z);
+      if (glm::dot(n, c) + r + offsets[i] < 0.0f) return false;
+    }
+    return true;
+  }
   const float ty = std::tan(0.5f * cam.vfov_rad), tx = ty * cam.aspect;
   // Inward plane normals of the four side planes and the near plane.
   const glm::vec3 normals[5] = {
@@ -73,7 +86,8 @@ CoverageFn alpha_coverage(const Scene& scene, const TiledRasterizer& raster) {
     const Draw& d = scene.draws[r.draw_index];
     const Primitive& prim = scene.primitive(d);
     const Material& m = material_of(scene, prim);
-    return material_alpha(scene, m, interpolate_uv_color(prim, r.triangle_index, bary)) >= m.alpha_cutoff;
+    return material_alpha(scene, m, interpolate_uv_color(prim, r.triangle_index, bary, m.base_color.texcoord == 1)) >=
+           m.alpha_cutoff;
   };
 }
 
@@ -117,6 +131,7 @@ Plugin* Renderer::plugin(const std::string& name) const {
 
 const FrameRecord& Renderer::render_frame(int frame) {
   if (frame <= last_frame_) throw Error("renderer: frames must be rendered in increasing order");
+  if (pose_) pose_(frame);
   FrameView view = frame_view(frame);
   if (frame != last_frame_ + 1) {  // skipped frames: temporal history is not valid
     view.history_valid = false;
@@ -146,9 +161,9 @@ const FrameRecord& Renderer::render_frame(int frame) {
       ShadowMap fit = fit_shadow_projection(view.camera, view.sun_direction, profile_.shadow_distance,
                                      profile_.shadow_map_size, profile_.shadow_pcf_radius, scene_.bounds_min,
                                      scene_.bounds_max);
-      // The scene is static: when the texel-snapped projection has not moved,
-      // last frame's map is exactly what a new render would produce.
-      const bool unchanged = fit.size == shadow_.size && fit.light_view_proj == shadow_.light_view_proj &&
+      // A still scene: when the texel-snapped projection has not moved, last
+      // frame's map is exactly what a new render would produce.
+      const bool unchanged = !pose_ && fit.size == shadow_.size && fit.light_view_proj == shadow_.light_view_proj &&
                              fit.origin == shadow_.origin && fit.direction_to_sun == shadow_.direction_to_sun;
       if (unchanged) {
         previous_shadow_.size = 0;  // nothing to compare against (its memory is kept for the next render)
@@ -220,12 +235,19 @@ const FrameRecord& Renderer::render_frame(int frame) {
       for (size_t y = y0; y < y1; ++y) {
         const float sy = (1.0f - 2.0f * (float(y) + 0.5f) / float(h)) * t;
         const float sy2 = sy * sy;
+        const size_t row = y * size_t(w);
+        std::copy(depth.begin() + ptrdiff_t(row), depth.begin() + ptrdiff_t(row) + w, buffers_.depth.begin() + ptrdiff_t(row));
+        if (cam.orthographic) {  // parallel rays: the distance is the view depth
+          for (int x = 0; x < w; ++x) {
+            const float d = depth[row + size_t(x)];
+            buffers_.distance[row + size_t(x)] = d > 0.0f ? cam.view_depth(d) : std::numeric_limits<float>::infinity();
+          }
+          continue;
+        }
         for (int x = 0; x < w; ++x) {
-          const size_t i = y * size_t(w) + size_t(x);
-          const float d = depth[i];
-          buffers_.depth[i] = d;
+          const float d = depth[row + size_t(x)];
           const float distance = cam.znear / d * std::sqrt(sx2[size_t(x)] + sy2);
-          buffers_.distance[i] = d > 0.0f ? distance : std::numeric_limits<float>::infinity();
+          buffers_.distance[row + size_t(x)] = d > 0.0f ? distance : std::numeric_limits<float>::infinity();
         }
       }
     });
@@ -235,16 +257,24 @@ const FrameRecord& Renderer::render_frame(int frame) {
   // reads of "shadow_map", "depth" and "light_environment" resolve to them.
   for (auto& p : plugins_) p->add_passes(graph, ctx);
 
-  const ShadingInputs shading{&scene_, &light_, &shadow_, cam.position};
+  // An orthographic view's rays are parallel: shading takes its view vectors
+  // from a point 10^7 m back along them, whose directions differ from -forward
+  // by less than the scene's extent / 10^7 radians.
+  const glm::dvec3 eye = cam.orthographic ? cam.position - glm::dvec3(cam.forward) * 1e7 : cam.position;
+  const ShadingInputs shading{&scene_, &light_, &shadow_, eye, emissive_luminance(description_)};
   // Built by the passes that shade: the light and shadow passes have run then.
   std::optional<SurfaceShader> shader;
+  // TEXCOORD_1 is interpolated for materials reading it; most scenes have none.
+  const bool any_uv1 =
+      std::any_of(scene_.materials.begin(), scene_.materials.end(), [](const Material& m) { return needs_uv1(m); });
   // The triangle a visibility-buffer id names, in world space, and its material.
-  auto triangle_of = [this, &geo](uint32_t id, const Material*& material) {
+  auto triangle_of = [this, &geo, any_uv1](uint32_t id, const Material*& material) {
     const TriangleRef r = geo.view.ref(id);
     const Draw& d = scene_.draws[r.draw_index];
     const Primitive& prim = scene_.primitive(d);
     material = &material_of(scene_, prim);
-    return TriangleSurface(prim, d, r.triangle_index, r.front_facing, needs_tangent(*material));
+    return TriangleSurface(prim, d, r.triangle_index, r.front_facing, needs_tangent(*material),
+                           any_uv1 && needs_uv1(*material));
   };
   auto shade_fragment = [&triangle_of, &shader](uint32_t id, const Barycentrics& bary) {
     const Material* m = nullptr;
@@ -269,7 +299,7 @@ const FrameRecord& Renderer::render_frame(int frame) {
       size_t where[SurfaceBatch::kCapacity];
       auto flush = [&] {
         surfaces.finish();
-        evaluate_materials(scene_, surfaces, materials, batch);
+        evaluate_materials(scene_, surfaces, materials, shading.emissive_luminance, batch);
         shader->shade_batch(batch);
         for (int k = 0; k < batch.count; ++k) buffers_.color[where[k]] = batch.radiance(k);
         surfaces.clear();

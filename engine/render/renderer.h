@@ -3,6 +3,7 @@
 // what the scene and plugins need (shadow, geometry, shade, plugin passes,
 // composite), runs it on the job system and keeps per-frame timing records.
 // Frames must be rendered in increasing order (plugins keep temporal state).
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -46,6 +47,10 @@ class Renderer {
   FrameView frame_view(int frame) const;
   // Renders one frame into buffers(); returns its timing record.
   const FrameRecord& render_frame(int frame);
+  // Scene playback: `pose(frame)` re-poses the scene (the one this renderer
+  // draws) before each frame. The scene then changes between frames, so
+  // nothing drawn from it is reused across frames (the shadow map).
+  void play_animation(std::function<void(int frame)> pose) { pose_ = std::move(pose); }
 
   const FrameBuffers& buffers() const { return buffers_; }
   const ShadowMap& shadow_map() const { return shadow_; }
@@ -70,6 +75,7 @@ class Renderer {
   FrameRecord record_;
   int last_frame_ = -1;
   Camera last_camera_;
+  std::function<void(int)> pose_;  // empty: a still scene
 };
 
 }  // namespace cr

@@ -31,8 +31,17 @@ glm::mat4 Camera::view_rotation() const {
 }
 
 glm::mat4 Camera::projection() const {
-  const float f = 1.0f / std::tan(0.5f * vfov_rad);
   glm::mat4 p(0.0f);
+  if (orthographic) {
+    // z_clip = (zfar - depth) / (zfar - znear), w = 1.
+    p[0][0] = 1.0f / (ortho_half_height * aspect);
+    p[1][1] = 1.0f / ortho_half_height;
+    p[2][2] = 1.0f / (zfar - znear);
+    p[3][2] = zfar / (zfar - znear);
+    p[3][3] = 1.0f;
+    return p;
+  }
+  const float f = 1.0f / std::tan(0.5f * vfov_rad);
   p[0][0] = f / aspect;
   p[1][1] = f;
   p[2][3] = -1.0f;   // w = -z_view (distance in front of the camera)
@@ -48,7 +57,8 @@ PixelRays::PixelRays(const Camera& camera, int width, int height)
     : forward_(camera.forward),
       right_(camera.right),
       up_(camera.up),
-      tan_half_y_(std::tan(0.5f * camera.vfov_rad)),
+      // Parallel rays: a zero field of view makes every direction forward.
+      tan_half_y_(camera.orthographic ? 0.0f : std::tan(0.5f * camera.vfov_rad)),
       aspect_(camera.aspect),
       width_(float(width)),
       height_(float(height)) {}

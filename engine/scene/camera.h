@@ -18,14 +18,27 @@ struct Camera {
   float vfov_rad = 1.0471976f;
   float aspect = 16.0f / 9.0f;
   float znear = 0.1f;
+  // Orthographic views (glTF orthographic cameras): parallel rays along
+  // forward through a view 2 * ortho_half_height metres high, depths in
+  // [znear, zfar] mapped to NDC depth 1..0 (reversed-Z, with a far plane).
+  // vfov_rad is unused for them.
+  bool orthographic = false;
+  float ortho_half_height = 1.0f;
+  float zfar = 1.0f;
 
   static Camera look_at(const glm::dvec3& position, const glm::dvec3& target, float vfov_rad,
                         float aspect, float znear);
   glm::mat4 view_rotation() const;  // world (camera-relative) -> view, no translation
-  glm::mat4 projection() const;     // reversed-Z infinite perspective (OpenGL-style clip, z in [0,w])
+  // Reversed-Z infinite perspective, or reversed-Z orthographic (OpenGL-style clip, z in [0,w]).
+  glm::mat4 projection() const;
+  // View depth (metres along forward) of a reversed-Z NDC depth d > 0.
+  float view_depth(float d) const {
+    return orthographic ? zfar - d * (zfar - znear) : znear / d;
+  }
   glm::mat4 view_proj() const { return projection() * view_rotation(); }
   // Unit world-space direction through pixel (px, py) of a width x height image;
-  // pixel centres are at integer + 0.5, y grows downwards.
+  // pixel centres are at integer + 0.5, y grows downwards. (Orthographic:
+  // forward for every pixel; the rays start on the view plane instead.)
   glm::vec3 ray_direction(float px, float py, int width, int height) const;
 };
 

@@ -6,9 +6,11 @@
 
 #include "engine/core/error.h"
 #include "engine/scene/gltf_context.h"
+#include "engine/scene/gltf_draco.h"
 #include "engine/scene/gltf_image_decoding.h"
 #include "engine/scene/gltf_materials.h"
 #include "engine/scene/gltf_meshes.h"
+#include "engine/scene/gltf_meshopt.h"
 #include "engine/scene/gltf_scene_graph.h"
 #include "engine/scene/gltf_schema.h"
 
@@ -106,9 +108,100 @@ std::string one_line(std::string s) {
 nlohmann::json parse_gltf_json(const std::string& path, const unsigned char* begin, const unsigned char* end) {
   try {
     return nlohmann::json::parse(begin, end);
-  } catch (const nlohmann::json::parse_error& e) {
+  } catch (const nlohmann::json::exception& e) {  // syntax, and numbers beyond double (1e999)
     throw InputError(path, std::string("malformed glTF JSON: ") + e.what());
   }
+}
+
+// A URI's path with its %XX escapes decoded (RFC 3986), as a file name.
+std::string decode_uri_path(const std::string& uri) {
+  auto hex = [](char c) -> int {
+    if (c >= '0' && c <= '9') return c - '0';
+    if (c >= 'a' && c <= 'f') return c - 'a' + 10;
+    if (c >= 'A' && c <= 'F') return c - 'A' + 10;
+    return -1;
+  };
+  std::string out;
+  for (size_t i = 0; i < uri.size(); ++i) {
+    if (uri[i] == '%' && i + 2 < uri.size() && hex(uri[i + 1]) >= 0 && hex(uri[i + 2]) >= 0) {
+      out += static_cast<char>(hex(uri[i + 1]) * 16 + hex(uri[i + 2]));
+      i += 2;
+    } else {
+      out += uri[i];
+    }
+  }
+  return out;
+}
+
+// External buffer files are required: one that is absent is named here
+// (tinygltf's own failure would only say the glTF is invalid).
+void check_buffer_files(const std::string& path, const nlohmann::json& doc, const std::string& base_dir) {
+  auto buffers = doc.find("buffers");
+  if (buffers == doc.end()) return;
+  for (size_t i = 0; i < buffers->size(); ++i) {
+    auto uri = (*buffers)[i].find("uri");
+    if (uri == (*buffers)[i].end() || uri->get<std::string>().rfind("data:", 0) == 0) continue;
+    const std::string name = decode_uri_path(uri->get<std::string>());
+    std::error_code ec;
+    if (!fs::is_regular_file(fs::path(base_dir) / name, ec)) {
+      throw InputError(path, "missing file: " + name + " (buffers[" + std::to_string(i) + "])");
+    }
+  }
+}
+
+// tinygltf 2.7 rejects a primitive whose indices accessor has no bufferView,
+// which glTF allows (a Draco primitive's indices, sparse indices on zeros):
+// such indices are taken out of the JSON it parses and put back on its model.
+struct DetachedIndices {
+  size_t mesh = 0;
+  size_t primitive = 0;
+  int accessor = -1;
+};
+
+std::vector<DetachedIndices> detach_dataless_indices(nlohmann::json& doc) {
+  std::vector<DetachedIndices> out;
+  if (!doc.contains("meshes") || !doc.contains("accessors")) return out;
+  const nlohmann::json& accessors = doc["accessors"];
+  nlohmann::json& meshes = doc["meshes"];
+  for (size_t m = 0; m < meshes.size(); ++m) {
+    nlohmann::json& primitives = meshes[m]["primitives"];
+    for (size_t p = 0; p < primitives.size(); ++p) {
+      auto it = primitives[p].find("indices");
+      if (it == primitives[p].end()) continue;
+      const uint64_t a = it->get<uint64_t>();
+      if (a < accessors.size() && !accessors[a].contains("bufferView")) {
+        out.push_back({m, p, static_cast<int>(a)});
+        primitives[p].erase(it);
+      }
+    }
+  }
+  return out;
+}
+
+void restore_indices(tinygltf::Model& model, const std::vector<DetachedIndices>& detached) {
+  for (const DetachedIndices& d : detached) {
+    if (d.mesh < model.meshes.size() && d.primitive < model.meshes[d.mesh].primitives.size()) {
+      model.meshes[d.mesh].primitives[d.primitive].indices = d.accessor;
+    }
+  }
+}
+
+// `glb` with its JSON chunk replaced by `json` (padded with spaces to 4
+// bytes, as GLB requires) and its BIN chunk, if any, unchanged.
+std::vector<unsigned char> glb_with_json(const std::vector<unsigned char>& glb, std::string json) {
+  while (json.size() % 4 != 0) json += ' ';
+  const size_t bin_start = 20 + read_le32(&glb[12]);
+  const size_t length = 20 + json.size() + (glb.size() - bin_start);
+  auto le32 = [](std::vector<unsigned char>& out, size_t v) {
+    for (int k = 0; k < 4; ++k) out.push_back(static_cast<unsigned char>(v >> (8 * k)));
+  };
+  std::vector<unsigned char> out(glb.begin(), glb.begin() + 8);  // magic and version
+  le32(out, length);
+  le32(out, json.size());
+  le32(out, 0x4E4F534Au);  // "JSON"
+  out.insert(out.end(), json.begin(), json.end());
+  out.insert(out.end(), glb.begin() + static_cast<std::ptrdiff_t>(bin_start), glb.end());
+  return out;
 }
 
 void warn_unsupported_extensions(const GltfContext& ctx) {
@@ -132,24 +225,34 @@ Scene load_gltf(const std::string& path, const GltfLoadOptions& options) {
   tinygltf::Model model;
   std::string err, warn;
   const std::string base_dir = fs::path(path).parent_path().string();
-  const unsigned int size = static_cast<unsigned int>(bytes.size());
-  bool ok = false;
-  if (bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0) {
-    validate_glb_layout(path, bytes);
-    const unsigned char* json = bytes.data() + 20;
-    validate_gltf_schema(path, parse_gltf_json(path, json, json + read_le32(&bytes[12])));
-    ok = loader.LoadBinaryFromMemory(&model, &err, &warn, bytes.data(), size, base_dir);
-  } else {
-    validate_gltf_schema(path, parse_gltf_json(path, bytes.data(), bytes.data() + bytes.size()));
-    ok = loader.LoadASCIIFromString(&model, &err, &warn, reinterpret_cast<const char*>(bytes.data()), size, base_dir);
+  const bool glb = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
+  if (glb) validate_glb_layout(path, bytes);
+  const unsigned char* json = glb ? bytes.data() + 20 : bytes.data();
+  nlohmann::json doc = parse_gltf_json(path, json, glb ? json + read_le32(&bytes[12]) : bytes.data() + bytes.size());
+  validate_gltf_schema(path, doc);
+  const MeshoptDocument meshopt = prepare_meshopt_compression(path, doc);
+  check_buffer_files(path, doc, base_dir);
+  const std::vector<DetachedIndices> detached = detach_dataless_indices(doc);
+  if (meshopt.fallback_replaced || !detached.empty()) {
+    const std::string edited = doc.dump();
+    bytes = glb ? glb_with_json(bytes, edited) : std::vector<unsigned char>(edited.begin(), edited.end());
+    if (bytes.size() > kMaxFileBytes) throw InputError(path, "glTF is above the size limit once edited for tinygltf");
   }
+  const unsigned int size = static_cast<unsigned int>(bytes.size());
+  const bool ok = glb ? loader.LoadBinaryFromMemory(&model, &err, &warn, bytes.data(), size, base_dir)
+                      : loader.LoadASCIIFromString(&model, &err, &warn, reinterpret_cast<const char*>(bytes.data()),
+                                                   size, base_dir);
   if (!ok) throw InputError(path, "invalid glTF: " + one_line(err.empty() ? warn : err));
+  restore_indices(model, detached);
   if (model.asset.version.rfind("2.", 0) != 0) {
     throw InputError(path, "asset.version is \"" + model.asset.version + "\"; only glTF 2.x is supported");
   }
 
   GltfContext ctx{model, path};
   warn_unsupported_extensions(ctx);
+  // Compressed data is decoded first, so everything below reads plain accessors.
+  decode_meshopt_buffer_views(ctx, model, meshopt.views);
+  decode_draco_primitives(ctx, model);
   Scene scene;
   scene.source = path;
   GltfMaterials materials = load_materials(ctx, decode_log, options);

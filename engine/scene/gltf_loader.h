@@ -3,19 +3,21 @@
 // validated Scene. Every malformed input is rejected with one InputError naming
 // the file and what is wrong; nothing is rendered from a half-checked file.
 //
-// What is loaded: the default scene (or scene 0; with no scenes, every root
-// node), node transforms, triangle primitives (strips and fans converted to
-// lists; points and lines skipped), PBR metallic-roughness materials, samplers,
-// images with full mip chains, perspective cameras and a KHR_lights_punctual
-// directional light as the sun. Scene::cameras lists the perspective cameras
-// in scene traversal order (depth first, children in file order); a scene
-// file's "gltf_camera": N indexes that list.
+// What is loaded (README "glTF support" has the full table): the default
+// scene (or scene 0; with no scenes, every root node), node transforms,
+// triangle primitives (strips and fans converted to lists; points and lines
+// skipped), sparse, quantized (KHR_mesh_quantization), Draco and meshopt
+// compressed geometry, PBR metallic-roughness materials with texture
+// transforms, two UV sets, unlit and emissive strength, samplers, images with
+// full mip chains, perspective and orthographic cameras, KHR_lights_punctual
+// lights (the first directional one as the sun), EXT_mesh_gpu_instancing,
+// morph targets, skins and animations (kept in Scene::animation to pose the
+// scene at a time: scene_animation.h; loaded at the rest pose).
+// Scene::cameras lists the cameras in scene traversal order (depth first,
+// children in file order); a scene file's "gltf_camera": N indexes that list.
 //
-// Documented fallbacks (each prints a warning to stderr):
-// - texCoord != 0 in a texture reference: TEXCOORD_0 is used instead;
-// - zero-length or non-finite normals/tangents: replaced by generated ones;
-// - unused features (skins, morph targets, animations, orthographic cameras,
-//   point/spot lights, non-required extensions) are ignored.
+// Every fallback prints one warning per file to stderr (generated normals
+// and tangents, unsupported extensions that are not required, ...).
 #include <string>
 
 #include "engine/scene/scene.h"

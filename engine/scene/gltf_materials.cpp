@@ -46,13 +46,52 @@ Sampler convert_sampler(const GltfContext& ctx, const tinygltf::Sampler& s, size
 
 bool is_data_uri(const std::string& uri) { return uri.rfind("data:", 0) == 0; }
 
+// A number that stays finite as a float.
+float finite_float(const GltfContext& ctx, const tinygltf::Value& v, const std::string& what) {
+  if (!v.IsNumber()) ctx.fail(what + " must be a number");
+  const double d = v.GetNumberAsDouble();
+  if (!std::isfinite(static_cast<float>(d))) ctx.fail(what + " is " + std::to_string(d) + "; must be finite");
+  return static_cast<float>(d);
+}
+
+glm::vec2 finite_vec2(const GltfContext& ctx, const tinygltf::Value& v, const std::string& what) {
+  if (!v.IsArray() || v.ArrayLen() != 2) ctx.fail(what + " must be an array of 2 numbers");
+  return {finite_float(ctx, v.Get(0), what + "[0]"), finite_float(ctx, v.Get(1), what + "[1]")};
+}
+
+// KHR_texture_transform of a texture reference (identity without it);
+// `texcoord` takes its texCoord override.
+UvTransform texture_transform(const GltfContext& ctx, const tinygltf::ExtensionMap& extensions, int& texcoord,
+                              const std::string& what) {
+  UvTransform t;
+  auto ext = extensions.find("KHR_texture_transform");
+  if (ext == extensions.end()) return t;
+  const tinygltf::Value& v = ext->second;
+  const std::string label = what + " KHR_texture_transform";
+  if (v.Has("offset")) t.offset = finite_vec2(ctx, v.Get("offset"), label + " offset");
+  if (v.Has("rotation")) t.rotation = finite_float(ctx, v.Get("rotation"), label + " rotation");
+  if (v.Has("scale")) t.scale = finite_vec2(ctx, v.Get("scale"), label + " scale");
+  if (v.Has("texCoord")) {
+    const tinygltf::Value& set = v.Get("texCoord");
+    if (!set.IsNumber() || set.GetNumberAsDouble() != std::floor(set.GetNumberAsDouble()) ||
+        std::abs(set.GetNumberAsDouble()) > 1e9)
+      ctx.fail(label + " texCoord must be an integer");
+    texcoord = static_cast<int>(set.GetNumberAsDouble());
+  }
+  return t;
+}
+
 // Resolves material texture references to scene images, creating each
 // (glTF image, colour space) pair once, and collects unusable images.
 class TextureResolver {
  public:
   TextureResolver(const GltfContext& ctx, const ImageDecodeLog& log) : ctx_(ctx), log_(log) {}
 
-  TextureRef resolve(int texture, int texcoord, float scale, bool srgb, const std::string& what) {
+  // A texture reference: its texture, UV set (texCoord, or its
+  // KHR_texture_transform override) and transform. Sets 0 and 1 are read;
+  // a higher set falls back to TEXCOORD_0 with a warning.
+  TextureRef resolve(int texture, int texcoord, const tinygltf::ExtensionMap& extensions, float scale, bool srgb,
+                     const std::string& what) {
     TextureRef ref;
     ref.scale = scale;
     if (texture == -1) return ref;
@@ -61,10 +100,12 @@ class TextureResolver {
       ctx_.fail(what + ": texture index " + std::to_string(texture) + " out of range (" +
                 std::to_string(m.textures.size()) + " textures)");
     }
+    const UvTransform transform = texture_transform(ctx_, extensions, texcoord, what);
     if (texcoord < 0) ctx_.fail(what + ": texCoord " + std::to_string(texcoord) + " is negative");
-    if (texcoord != 0) {
+    if (texcoord > 1) {
       ctx_.warn(what + " uses TEXCOORD_" + std::to_string(texcoord) +
-                "; only TEXCOORD_0 is loaded, so TEXCOORD_0 is used instead");
+                "; only TEXCOORD_0 and TEXCOORD_1 are supported, so TEXCOORD_0 is used instead");
+      texcoord = 0;
     }
     const tinygltf::Texture& t = m.textures[texture];
     std::string tlabel = what + ": " + gltf_label("texture", texture, t.name);
@@ -99,6 +140,8 @@ class TextureResolver {
     }
     ref.image = it->second;
     ref.sampler = t.sampler;
+    ref.texcoord = texcoord;
+    ref.transform = transform;
     return ref;
   }
 
@@ -138,18 +181,27 @@ Material convert_material(const GltfContext& ctx, TextureResolver& textures, con
   for (int c = 0; c < 3; ++c) {
     m.emissive_factor[c] = factor(ctx, src.emissiveFactor[c], 0.0, 1.0, label + " emissiveFactor");
   }
-  m.base_color = textures.resolve(pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord, 1.0f, true,
-                                  label + " baseColorTexture");
-  m.metallic_roughness = textures.resolve(pbr.metallicRoughnessTexture.index, pbr.metallicRoughnessTexture.texCoord,
-                                          1.0f, false, label + " metallicRoughnessTexture");
+  if (auto ext = src.extensions.find("KHR_materials_emissive_strength"); ext != src.extensions.end()) {
+    const std::string what = label + " KHR_materials_emissive_strength emissiveStrength";
+    if (ext->second.Has("emissiveStrength")) {
+      m.emissive_strength = finite_float(ctx, ext->second.Get("emissiveStrength"), what);
+      if (m.emissive_strength < 0.0f) ctx.fail(what + " is " + std::to_string(m.emissive_strength) + "; must be >= 0");
+    }
+  }
+  m.unlit = src.extensions.count("KHR_materials_unlit") > 0;
+  m.base_color = textures.resolve(pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord,
+                                  pbr.baseColorTexture.extensions, 1.0f, true, label + " baseColorTexture");
+  m.metallic_roughness =
+      textures.resolve(pbr.metallicRoughnessTexture.index, pbr.metallicRoughnessTexture.texCoord,
+                       pbr.metallicRoughnessTexture.extensions, 1.0f, false, label + " metallicRoughnessTexture");
   float normal_scale = factor(ctx, src.normalTexture.scale, -1e6, 1e6, label + " normalTexture.scale");
-  m.normal = textures.resolve(src.normalTexture.index, src.normalTexture.texCoord, normal_scale, false,
-                              label + " normalTexture");
+  m.normal = textures.resolve(src.normalTexture.index, src.normalTexture.texCoord, src.normalTexture.extensions,
+                              normal_scale, false, label + " normalTexture");
   float strength = factor(ctx, src.occlusionTexture.strength, 0.0, 1.0, label + " occlusionTexture.strength");
-  m.occlusion = textures.resolve(src.occlusionTexture.index, src.occlusionTexture.texCoord, strength, false,
-                                 label + " occlusionTexture");
-  m.emissive = textures.resolve(src.emissiveTexture.index, src.emissiveTexture.texCoord, 1.0f, true,
-                                label + " emissiveTexture");
+  m.occlusion = textures.resolve(src.occlusionTexture.index, src.occlusionTexture.texCoord,
+                                 src.occlusionTexture.extensions, strength, false, label + " occlusionTexture");
+  m.emissive = textures.resolve(src.emissiveTexture.index, src.emissiveTexture.texCoord,
+                                src.emissiveTexture.extensions, 1.0f, true, label + " emissiveTexture");
   if (src.alphaMode == "OPAQUE") {
     m.alpha_mode = AlphaMode::Opaque;
   } else if (src.alphaMode == "MASK") {

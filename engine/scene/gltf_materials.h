@@ -1,5 +1,9 @@
 #pragma once
 // glTF samplers, materials and the images they use, converted and validated.
+// Material extensions read: KHR_texture_transform (per texture reference,
+// with its texCoord override), KHR_materials_emissive_strength and
+// KHR_materials_unlit. Texture references read TEXCOORD_0 or TEXCOORD_1; a
+// higher set falls back to TEXCOORD_0 with a warning.
 #include <vector>
 
 #include "engine/scene/gltf_context.h"

@@ -5,6 +5,8 @@
 #include <optional>
 
 #include "engine/scene/gltf_accessors.h"
+#include "engine/scene/gltf_morph.h"
+#include "engine/scene/gltf_skin.h"
 #include "engine/scene/mesh_generation.h"
 
 namespace cr {
@@ -82,10 +84,16 @@ class PrimitiveLoader {
         p.colors[v] = c;
       }
     }
+    MorphTargets morph = load_morph_targets(ctx_, src, n, label_);
+    deformation_.targets = std::move(morph.targets);
+    ignored_morph_attributes_ = morph.ignored_attributes;
+    load_skin_influences(ctx_, src, n, label_, deformation_);
+    const bool deformable = !deformation_.targets.empty() || deformation_.skinnable();
     const bool has_normals = src.attributes.count("NORMAL") > 0;
     // Flat normals need a vertex per corner where a vertex joins faces of
-    // different orientations.
-    if (!has_normals && !faces_agree_at_vertices(p.positions, p.indices)) unweld(p);
+    // different orientations; a deformable primitive's faces may disagree in
+    // any pose.
+    if (!has_normals && (deformable || !faces_agree_at_vertices(p.positions, p.indices))) unweld(p, deformation_);
     load_normals(src, p);
     const bool needs_tangents = material && material->normal.valid();
     const std::vector<glm::vec2>& tangent_uv = material && material->normal.texcoord == 1 ? p.texcoords1 : p.texcoords;
@@ -96,6 +104,9 @@ class PrimitiveLoader {
       p.tangents = generate_tangents(p.positions, p.normals, tangent_uv, p.indices);
       generated_tangents_ = true;
     }
+    deformation_.flat_normals = !has_normals;
+    deformation_.generated_tangents = generated_tangents_;
+    deformation_.tangent_texcoord = material ? material->normal.texcoord : 0;
 
     p.bounds_min = p.bounds_max = p.positions[0];
     for (const glm::vec3& v : p.positions) {
@@ -105,9 +116,12 @@ class PrimitiveLoader {
     return p;
   }
 
-   // Which fallbacks this primitive took (the loader warns once per file).
+  // Which fallbacks this primitive took (the loader warns once per file).
   bool generated_normals() const { return generated_normals_; }
   bool generated_tangents() const { return generated_tangents_; }
+  size_t ignored_morph_attributes() const { return ignored_morph_attributes_; }
+  // Morph targets and skin influences of the loaded primitive.
+  PrimitiveDeformation& deformation() { return deformation_; }
 
  private:
   std::string attr(const std::string& name) const { return label_ + " attribute " + name; }
@@ -136,7 +150,7 @@ class PrimitiveLoader {
 
   // One vertex per triangle corner (streams copied, indices 0..3T-1): glTF
   // asks for flat normals where a primitive has none.
-  static void unweld(Primitive& p) {
+  static void unweld(Primitive& p, PrimitiveDeformation& d) {
     auto expand = [&p](auto& stream) {
       if (stream.empty()) return;
       std::remove_reference_t<decltype(stream)> out(p.indices.size());
@@ -147,6 +161,13 @@ class PrimitiveLoader {
     expand(p.texcoords);
     expand(p.texcoords1);
     expand(p.colors);
+    for (MorphTarget& t : d.targets) {
+      expand(t.positions);
+      expand(t.normals);
+      expand(t.tangents);
+    }
+    for (std::vector<glm::u16vec4>& set : d.joints) expand(set);
+    for (std::vector<glm::vec4>& set : d.weights) expand(set);
     std::iota(p.indices.begin(), p.indices.end(), 0u);
   }
 
@@ -247,26 +268,32 @@ class PrimitiveLoader {
   std::string label_;
   bool generated_normals_ = false;
   bool generated_tangents_ = false;
+  size_t ignored_morph_attributes_ = 0;
+  PrimitiveDeformation deformation_;
 };
 
 }  // namespace
 
 GltfMeshes load_meshes(const GltfContext& ctx, const std::vector<Material>& materials) {
   GltfMeshes out;
-  size_t skipped = 0, flat = 0, tangents = 0;
+  size_t skipped = 0, flat = 0, tangents = 0, ignored_morph_attributes = 0;
   for (size_t mi = 0; mi < ctx.model.meshes.size(); ++mi) {
     const tinygltf::Mesh& src = ctx.model.meshes[mi];
     Mesh mesh;
     mesh.name = src.name;
+    MeshDeformation deformation;
+    deformation.target_count = mesh_target_count(ctx, mi);
     std::vector<int> index_map;
     for (size_t pi = 0; pi < src.primitives.size(); ++pi) {
       PrimitiveLoader loader(ctx, materials, gltf_label("mesh", mi, src.name) + " primitive " + std::to_string(pi));
       std::optional<Primitive> p = loader.load(src.primitives[pi]);
       flat += loader.generated_normals();
       tangents += loader.generated_tangents();
+      ignored_morph_attributes += loader.ignored_morph_attributes();
       if (p) {
         index_map.push_back(static_cast<int>(mesh.primitives.size()));
         mesh.primitives.push_back(std::move(*p));
+        deformation.primitives.push_back(std::move(loader.deformation()));
       } else {
         index_map.push_back(-1);
         ++skipped;
@@ -274,11 +301,16 @@ GltfMeshes load_meshes(const GltfContext& ctx, const std::vector<Material>& mate
     }
     out.meshes.push_back(std::move(mesh));
     out.primitive_index.push_back(std::move(index_map));
+    out.deformations.push_back(std::move(deformation));
   }
   if (skipped > 0) {
     ctx.warn(std::to_string(skipped) + " primitive(s) are points, lines or have no POSITION; they are not rendered");
   }
   if (flat > 0) ctx.warn(std::to_string(flat) + " primitive(s) have no NORMAL; flat normals are generated");
+  if (ignored_morph_attributes > 0) {
+    ctx.warn(std::to_string(ignored_morph_attributes) + " morph target attribute(s) other than POSITION, NORMAL and "
+             "TANGENT are ignored");
+  }
   if (tangents > 0) {
     ctx.warn(std::to_string(tangents) + " normal-mapped primitive(s) have no TANGENT; tangents are generated "
              "(MikkTSpace convention)");

@@ -4,6 +4,7 @@
 
 #include "engine/scene/gltf_context.h"
 #include "engine/scene/scene.h"
+#include "engine/scene/scene_animation.h"
 
 namespace cr {
 
@@ -12,6 +13,9 @@ struct GltfMeshes {
   // primitive_index[mesh][glTF primitive] = index in meshes[mesh].primitives,
   // or -1 for a primitive that is not rendered (points, lines, no POSITION).
   std::vector<std::vector<int>> primitive_index;
+  // Morph targets and skin influences per mesh, one entry per primitive of
+  // meshes[mesh] (empty for a primitive nothing deforms).
+  std::vector<MeshDeformation> deformations;
 };
 
 // `materials` are the already converted materials: they decide whether

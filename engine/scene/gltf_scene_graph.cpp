@@ -2,11 +2,17 @@
 
 #include <cmath>
 #include <limits>
+#include <memory>
+#include <set>
 
 #include <glm/gtc/constants.hpp>
-#include <glm/gtc/matrix_transform.hpp>
-#include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
+
+#include "engine/scene/gltf_animation.h"
+#include "engine/scene/gltf_instancing.h"
+#include "engine/scene/gltf_morph.h"
+#include "engine/scene/gltf_skin.h"
+#include "engine/scene/scene_animation.h"
 
 namespace cr {
 
@@ -19,7 +25,7 @@ bool all_finite(const std::vector<double>& v) {
   return true;
 }
 
-glm::dmat4 local_matrix(const GltfContext& ctx, const tinygltf::Node& n, size_t index) {
+NodeTransform node_transform(const GltfContext& ctx, const tinygltf::Node& n, size_t index) {
   std::string label = gltf_label("node", index, n.name);
   auto check = [&](const std::vector<double>& v, size_t size, const char* name) {
     if (!v.empty() && v.size() != size) {
@@ -31,22 +37,23 @@ glm::dmat4 local_matrix(const GltfContext& ctx, const tinygltf::Node& n, size_t 
   check(n.translation, 3, "translation");
   check(n.rotation, 4, "rotation");
   check(n.scale, 3, "scale");
+  NodeTransform t;
   if (!n.matrix.empty()) {
     if (!n.translation.empty() || !n.rotation.empty() || !n.scale.empty()) {
       ctx.fail(label + " has both matrix and translation/rotation/scale");
     }
-    return glm::make_mat4(n.matrix.data());  // glTF matrices are column-major, like glm
+    t.matrix = glm::make_mat4(n.matrix.data());  // glTF matrices are column-major, like glm
+    return t;
   }
-  glm::dmat4 m(1.0);
-  if (!n.translation.empty()) m = glm::translate(m, glm::dvec3(n.translation[0], n.translation[1], n.translation[2]));
+  if (!n.translation.empty()) t.translation = glm::make_vec3(n.translation.data());
   if (!n.rotation.empty()) {
     glm::dquat q(n.rotation[3], n.rotation[0], n.rotation[1], n.rotation[2]);  // glTF order is x, y, z, w
     double len = glm::length(q);
     if (!(len > 1e-6)) ctx.fail(label + " rotation is a zero quaternion");
-    m *= glm::mat4_cast(q / len);
+    t.rotation = q / len;
   }
-  if (!n.scale.empty()) m = glm::scale(m, glm::dvec3(n.scale[0], n.scale[1], n.scale[2]));
-  return m;
+  if (!n.scale.empty()) t.scale = glm::make_vec3(n.scale.data());
+  return t;
 }
 
 // The node's KHR_lights_punctual light index, or -1.
@@ -66,17 +73,51 @@ int node_light(const GltfContext& ctx, const tinygltf::Node& n, size_t index) {
   return light;
 }
 
+// `value[key]`, or a null value when `value` is not an object holding `key`.
+const tinygltf::Value& member(const tinygltf::Value& value, const char* key) {
+  static const tinygltf::Value kNone;
+  return value.Has(key) ? value.Get(key) : kNone;
+}
+
+// Light `i` as written in the file: tinygltf reads an absent "range" and a
+// "range" of 0 alike, and drops values of the wrong type.
+const tinygltf::Value& light_json(const GltfContext& ctx, size_t i) {
+  static const tinygltf::Value kNone;
+  auto it = ctx.model.extensions.find("KHR_lights_punctual");
+  if (it == ctx.model.extensions.end()) return kNone;
+  const tinygltf::Value& lights = member(it->second, "lights");
+  return i < lights.ArrayLen() ? lights.Get(static_cast<int>(i)) : kNone;
+}
+
 void validate_lights(const GltfContext& ctx) {
   for (size_t i = 0; i < ctx.model.lights.size(); ++i) {
     const tinygltf::Light& l = ctx.model.lights[i];
+    const tinygltf::Value& json = light_json(ctx, i);
     std::string label = gltf_label("light", i, l.name);
     if (l.type != "directional" && l.type != "point" && l.type != "spot") {
       ctx.fail(label + " has unknown type \"" + l.type + "\"");
     }
-    if (!l.color.empty() && (l.color.size() != 3 || !all_finite(l.color) || l.color[0] < 0 || l.color[1] < 0 || l.color[2] < 0)) {
+    if ((json.Has("color") || !l.color.empty()) && (l.color.size() != 3 || !all_finite(l.color) || l.color[0] < 0 || l.color[1] < 0 || l.color[2] < 0)) {
       ctx.fail(label + " color must be 3 finite non-negative numbers");
     }
-    if (!std::isfinite(l.intensity) || l.intensity < 0) ctx.fail(label + " intensity must be finite and >= 0");
+    if ((json.Has("intensity") && !member(json, "intensity").IsNumber()) || !std::isfinite(l.intensity) || l.intensity < 0) {
+      ctx.fail(label + " intensity must be a finite number >= 0");
+    }
+    if (json.Has("range") && (!member(json, "range").IsNumber() || !std::isfinite(l.range) || !(l.range > 0.0))) {
+      ctx.fail(label + " range must be a finite number > 0 (leave it out for an unlimited range)");
+    }
+    if (l.type == "spot") {
+      const tinygltf::Value& spot = member(json, "spot");
+      for (const char* key : {"innerConeAngle", "outerConeAngle"}) {
+        if (spot.Has(key) && !member(spot, key).IsNumber()) ctx.fail(label + " spot." + key + " must be a number");
+      }
+      const double inner = l.spot.innerConeAngle, outer = l.spot.outerConeAngle;
+      if (!std::isfinite(inner) || !std::isfinite(outer) || !(inner >= 0.0) || !(inner < outer) ||
+          !(outer <= glm::half_pi<double>())) {
+        ctx.fail(label + " spot cone angles (inner " + std::to_string(inner) + ", outer " + std::to_string(outer) +
+                 ") must satisfy 0 <= innerConeAngle < outerConeAngle <= pi/2");
+      }
+    }
   }
 }
 
@@ -96,6 +137,11 @@ std::vector<int> validate_hierarchy(const GltfContext& ctx) {
       ctx.fail(label + " camera " + std::to_string(n.camera) + " out of range (" + std::to_string(m.cameras.size()) +
                " cameras)");
     }
+    if (n.skin < -1 || (n.skin >= 0 && static_cast<size_t>(n.skin) >= m.skins.size())) {
+      ctx.fail(label + " skin " + std::to_string(n.skin) + " out of range (" + std::to_string(m.skins.size()) + " skins)");
+    }
+    if (n.mesh < 0 && n.skin >= 0) ctx.fail(label + " has a skin but no mesh");
+    if (n.mesh < 0 && !n.weights.empty()) ctx.fail(label + " has morph weights but no mesh");
     for (int c : n.children) {
       if (c < 0 || static_cast<size_t>(c) >= count) {
         ctx.fail(label + " child " + std::to_string(c) + " out of range (" + std::to_string(count) + " nodes)");
@@ -152,157 +198,231 @@ std::vector<int> scene_roots(const GltfContext& ctx, const std::vector<int>& par
   return roots;
 }
 
-void expand_bounds(const glm::mat4& world, const glm::vec3& lo, const glm::vec3& hi, glm::vec3& out_lo,
-                   glm::vec3& out_hi) {
-  out_lo = glm::vec3(std::numeric_limits<float>::infinity());
-  out_hi = -out_lo;
-  for (int corner = 0; corner < 8; ++corner) {
-    glm::vec3 p((corner & 1) ? hi.x : lo.x, (corner & 2) ? hi.y : lo.y, (corner & 4) ? hi.z : lo.z);
-    glm::vec3 w = glm::vec3(world * glm::vec4(p, 1.0f));
-    out_lo = glm::min(out_lo, w);
-    out_hi = glm::max(out_hi, w);
+// The trees under `roots`, depth first, children in file order; an explicit
+// stack, since a valid file may still nest nodes deeper than the call stack allows.
+std::vector<int> depth_first(const GltfContext& ctx, const std::vector<int>& roots) {
+  std::vector<int> order;
+  std::vector<int> stack(roots.rbegin(), roots.rend());
+  while (!stack.empty()) {
+    const int node = stack.back();
+    stack.pop_back();
+    order.push_back(node);
+    const std::vector<int>& children = ctx.model.nodes[node].children;
+    stack.insert(stack.end(), children.rbegin(), children.rend());
   }
+  return order;
 }
 
-class NodePlacer {
- public:
-  NodePlacer(const GltfContext& ctx, const GltfMeshes& meshes, Scene& scene)
-      : ctx_(ctx), meshes_(meshes), scene_(scene) {}
+// A camera's projection, checked; its node places it (pose_scene).
+GltfCamera camera_projection(const GltfContext& ctx, int camera, size_t& negative_magnifications) {
+  const tinygltf::Camera& c = ctx.model.cameras[camera];
+  std::string label = gltf_label("camera", camera, c.name);
+  GltfCamera out;
+  out.name = c.name;
+  if (c.type == "orthographic") {
+    const tinygltf::OrthographicCamera& o = c.orthographic;
+    if (!std::isfinite(o.xmag) || !std::isfinite(o.ymag) || o.xmag == 0.0 || o.ymag == 0.0) {
+      ctx.fail(label + " xmag and ymag must be finite and non-zero");
+    }
+    if (!std::isfinite(o.znear) || o.znear < 0.0) ctx.fail(label + " znear must be finite and >= 0");
+    if (!std::isfinite(o.zfar) || !(o.zfar > o.znear)) ctx.fail(label + " zfar must be finite and greater than znear");
+    // Negative magnifications (which the spec advises against) would mirror
+    // the view; their size is used.
+    negative_magnifications += o.xmag < 0.0 || o.ymag < 0.0;
+    out.orthographic = true;
+    out.xmag = static_cast<float>(std::abs(o.xmag));
+    out.ymag = static_cast<float>(std::abs(o.ymag));
+    out.znear = static_cast<float>(o.znear);
+    out.zfar = static_cast<float>(o.zfar);
+    return out;
+  }
+  if (c.type != "perspective") ctx.fail(label + " has unknown type \"" + c.type + "\"");
+  const tinygltf::PerspectiveCamera& p = c.perspective;
+  if (!std::isfinite(p.yfov) || p.yfov <= 0.0 || p.yfov >= glm::pi<double>()) ctx.fail(label + " yfov must be in (0, pi)");
+  if (!std::isfinite(p.znear) || p.znear <= 0.0) ctx.fail(label + " znear must be finite and > 0");
+  if (!std::isfinite(p.aspectRatio) || p.aspectRatio < 0.0) ctx.fail(label + " aspectRatio must be finite and > 0");
+  // tinygltf reads an absent zfar (an infinite projection) as 0.
+  if (!std::isfinite(p.zfar) || (p.zfar != 0.0 && !(p.zfar > p.znear))) {
+    ctx.fail(label + " zfar must be finite and greater than znear");
+  }
+  out.yfov_rad = static_cast<float>(p.yfov);
+  out.znear = static_cast<float>(p.znear);
+  if (p.aspectRatio > 0.0) out.aspect = static_cast<float>(p.aspectRatio);
+  return out;
+}
 
-  void place(int node, const glm::dmat4& world) {
-    const tinygltf::Node& n = ctx_.model.nodes[node];
-    if (n.mesh >= 0) add_draws(n.mesh, world);
-    if (n.camera >= 0) add_camera(n.camera, world);
-    int light = node_light(ctx_, n, node);
-    if (light >= 0) add_light(light, world);
+glm::vec3 light_color(const tinygltf::Light& l) {
+  return l.color.empty() ? glm::vec3(1.0f) : glm::vec3(l.color[0], l.color[1], l.color[2]);
+}
+
+PunctualLight punctual_light(const tinygltf::Light& l) {
+  PunctualLight out;
+  out.type = l.type == "spot" ? PunctualLight::Type::Spot : PunctualLight::Type::Point;
+  out.name = l.name;
+  out.color = light_color(l);
+  out.intensity = static_cast<float>(l.intensity);
+  out.range = static_cast<float>(l.range);
+  if (out.type == PunctualLight::Type::Spot) {
+    out.inner_cone_rad = static_cast<float>(l.spot.innerConeAngle);
+    out.outer_cone_rad = static_cast<float>(l.spot.outerConeAngle);
+  }
+  return out;
+}
+
+// The node table of `anim` for every glTF node: rest transforms, meshes with
+// their morph weights, instances and skins.
+class NodeTable {
+ public:
+  NodeTable(const GltfContext& ctx, const std::vector<int>& parent, SceneAnimation& anim)
+      : ctx_(ctx), anim_(anim) {
+    anim.nodes.resize(ctx.model.nodes.size());
+    for (size_t i = 0; i < anim.nodes.size(); ++i) {
+      const tinygltf::Node& n = ctx.model.nodes[i];
+      SceneNode& node = anim.nodes[i];
+      node.name = n.name;
+      node.parent = parent[i];
+      node.rest = node_transform(ctx, n, i);
+      if (n.mesh >= 0) {
+        add_mesh(i);
+      } else if (n.extensions.count("EXT_mesh_gpu_instancing")) {
+        ++instancing_without_mesh_;
+      }
+    }
   }
 
   void report() const {
-    if (degenerate_nodes_ > 0) {
-      ctx_.warn(std::to_string(degenerate_nodes_) + " node(s) with a singular or non-finite world matrix are not drawn");
+    if (instancing_without_mesh_ > 0) {
+      ctx_.warn(std::to_string(instancing_without_mesh_) + " node(s) without a mesh have EXT_mesh_gpu_instancing; ignored");
     }
-    if (ignored_cameras_ > 0) ctx_.warn(std::to_string(ignored_cameras_) + " orthographic camera(s) ignored");
-    if (ignored_lights_ > 0) {
-      ctx_.warn(std::to_string(ignored_lights_) + " punctual light(s) ignored (only the first directional light is used, as the sun)");
+    if (unskinned_primitives_ > 0) {
+      ctx_.warn(std::to_string(unskinned_primitives_) + " primitive(s) of skinned nodes have no JOINTS_0/WEIGHTS_0; "
+                "drawn unskinned, placed by their node");
     }
   }
 
  private:
-  void add_draws(int mesh, const glm::dmat4& world) {
-    glm::dmat3 m3(world);
-    double det = glm::determinant(m3);
-    bool finite_world = true;
-    for (int c = 0; c < 4; ++c) {
-      for (int r = 0; r < 4; ++r) finite_world = finite_world && std::isfinite(world[c][r]);
+  void add_mesh(size_t i) {
+    const tinygltf::Node& n = ctx_.model.nodes[i];
+    SceneNode& node = anim_.nodes[i];
+    node.mesh = n.mesh;
+    const MeshDeformation& deformation = anim_.deformations[n.mesh];
+    node.weights = rest_morph_weights(ctx_, i, deformation.target_count);
+    node.instances = load_instances(ctx_, i);
+    if (n.skin < 0) return;
+    const SceneSkin& skin = anim_.skins[n.skin];
+    for (size_t p = 0; p < deformation.primitives.size(); ++p) {
+      const PrimitiveDeformation& d = deformation.primitives[p];
+      if (!d.skinnable()) {
+        ++unskinned_primitives_;
+        continue;
+      }
+      if (d.max_joint >= skin.joints.size()) {
+        ctx_.fail(gltf_label("node", i, n.name) + " mesh " + std::to_string(n.mesh) + " primitive " + std::to_string(p) +
+                  " uses joint " + std::to_string(d.max_joint) + " but its skin " + std::to_string(n.skin) + " has " +
+                  std::to_string(skin.joints.size()) + " joints");
+      }
+      node.skin = n.skin;
     }
-    if (!finite_world || !std::isfinite(det) || det == 0.0) {
-      ++degenerate_nodes_;
-      return;
-    }
-    const std::vector<int>& index = meshes_.primitive_index[mesh];
-    for (int prim : index) {
-      if (prim < 0) continue;
-      Draw d;
-      d.mesh = mesh;
-      d.primitive = prim;
-      d.world = glm::mat4(world);
-      d.normal_matrix = glm::mat3(glm::transpose(glm::inverse(m3)));
-      d.mirrored = det < 0.0;
-      const Primitive& p = scene_.meshes[mesh].primitives[prim];
-      expand_bounds(d.world, p.bounds_min, p.bounds_max, d.world_bounds_min, d.world_bounds_max);
-      scene_.draws.push_back(d);
-    }
-  }
-
-  void add_camera(int camera, const glm::dmat4& world) {
-    const tinygltf::Camera& c = ctx_.model.cameras[camera];
-    std::string label = gltf_label("camera", camera, c.name);
-    if (c.type == "orthographic") {
-      ++ignored_cameras_;
-      return;
-    }
-    if (c.type != "perspective") ctx_.fail(label + " has unknown type \"" + c.type + "\"");
-    const tinygltf::PerspectiveCamera& p = c.perspective;
-    if (!std::isfinite(p.yfov) || p.yfov <= 0.0 || p.yfov >= glm::pi<double>()) ctx_.fail(label + " yfov must be in (0, pi)");
-    if (!std::isfinite(p.znear) || p.znear <= 0.0) ctx_.fail(label + " znear must be finite and > 0");
-    if (!std::isfinite(p.aspectRatio) || p.aspectRatio < 0.0) ctx_.fail(label + " aspectRatio must be finite and > 0");
-    GltfCamera out;
-    out.name = c.name;
-    out.position = glm::vec3(world[3]);
-    glm::dvec3 forward = glm::dvec3(world * glm::dvec4(0.0, 0.0, -1.0, 0.0));
-    glm::dvec3 up = glm::dvec3(world * glm::dvec4(0.0, 1.0, 0.0, 0.0));
-    double flen = glm::length(forward);
-    if (!(flen > 0.0) || !std::isfinite(flen)) ctx_.fail(label + " is placed by a degenerate node transform");
-    forward /= flen;
-    up -= forward * glm::dot(forward, up);
-    double ulen = glm::length(up);
-    if (!(ulen > 0.0) || !std::isfinite(ulen)) ctx_.fail(label + " is placed by a degenerate node transform");
-    out.forward = glm::vec3(forward);
-    out.up = glm::vec3(up / ulen);
-    out.yfov_rad = static_cast<float>(p.yfov);
-    out.znear = static_cast<float>(p.znear);
-    if (p.aspectRatio > 0.0) out.aspect = static_cast<float>(p.aspectRatio);
-    scene_.cameras.push_back(out);
-  }
-
-  void add_light(int light, const glm::dmat4& world) {
-    const tinygltf::Light& l = ctx_.model.lights[light];
-    if (l.type != "directional" || scene_.sun) {
-      ++ignored_lights_;
-      return;
-    }
-    // The light shines along the node's -Z, so the sun lies along +Z.
-    glm::dvec3 to_sun = glm::dvec3(world * glm::dvec4(0.0, 0.0, 1.0, 0.0));
-    double len = glm::length(to_sun);
-    if (!(len > 0.0) || !std::isfinite(len)) {
-      ctx_.fail(gltf_label("light", light, l.name) + " is placed by a degenerate node transform");
-    }
-    GltfSun sun;
-    sun.direction_to_sun = glm::vec3(to_sun / len);
-    if (!l.color.empty()) sun.color = glm::vec3(l.color[0], l.color[1], l.color[2]);
-    sun.intensity = static_cast<float>(l.intensity);
-    scene_.sun = sun;
   }
 
   const GltfContext& ctx_;
-  const GltfMeshes& meshes_;
-  Scene& scene_;
-  size_t degenerate_nodes_ = 0;
-  size_t ignored_cameras_ = 0;
-  size_t ignored_lights_ = 0;
+  SceneAnimation& anim_;
+  size_t instancing_without_mesh_ = 0;
+  size_t unskinned_primitives_ = 0;
 };
+
+// Gives every node the scene draws its camera, light or sun, in draw order.
+class NodeRoles {
+ public:
+  NodeRoles(const GltfContext& ctx, SceneAnimation& anim, Scene& scene) : ctx_(ctx) {
+    for (int n : anim.draw_order) {
+      const tinygltf::Node& src = ctx.model.nodes[n];
+      SceneNode& node = anim.nodes[n];
+      if (src.camera >= 0) {
+        node.camera = static_cast<int>(scene.cameras.size());
+        scene.cameras.push_back(camera_projection(ctx, src.camera, negative_magnifications_));
+      }
+      const int light = node_light(ctx, src, n);
+      if (light < 0) continue;
+      const tinygltf::Light& l = ctx.model.lights[light];
+      if (l.type != "directional") {
+        node.light = static_cast<int>(scene.lights.size());
+        scene.lights.push_back(punctual_light(l));
+      } else if (scene.sun) {
+        ++ignored_directional_;
+      } else {
+        GltfSun sun;
+        sun.color = light_color(l);
+        sun.intensity = static_cast<float>(l.intensity);
+        scene.sun = sun;
+        node.sun = true;
+      }
+    }
+  }
+
+  void report() const {
+    if (negative_magnifications_ > 0) {
+      ctx_.warn(std::to_string(negative_magnifications_) + " orthographic camera(s) have a negative xmag or ymag; "
+                "their absolute values are used (the view is not mirrored)");
+    }
+    if (ignored_directional_ > 0) {
+      ctx_.warn(std::to_string(ignored_directional_) + " directional light(s) ignored (only the first is used, as the sun)");
+    }
+  }
+
+ private:
+  const GltfContext& ctx_;
+  size_t negative_magnifications_ = 0;
+  size_t ignored_directional_ = 0;
+};
+
+// Gives every drawn node whose shape is not its mesh's rest shape (skinned,
+// morphed by non-zero or animated weights) a mesh of its own in the scene.
+void add_posed_meshes(SceneAnimation& anim, Scene& scene) {
+  std::set<int> animated_weights;
+  for (const AnimationClip& clip : anim.animations) {
+    for (const AnimationChannel& c : clip.channels) {
+      if (c.path == AnimationPath::Weights) animated_weights.insert(c.node);
+    }
+  }
+  for (int n : anim.draw_order) {
+    SceneNode& node = anim.nodes[n];
+    if (node.mesh < 0) continue;
+    bool morphed = animated_weights.count(n) > 0;
+    for (float w : node.weights) morphed = morphed || w != 0.0f;
+    if (node.skin < 0 && !morphed) continue;
+    node.posed_mesh = static_cast<int>(scene.meshes.size());
+    Mesh copy = scene.meshes[node.mesh];
+    scene.meshes.push_back(std::move(copy));
+  }
+}
 
 }  // namespace
 
-void place_nodes(const GltfContext& ctx, const GltfMeshes& meshes, Scene& scene) {
+void place_nodes(const GltfContext& ctx, GltfMeshes& meshes, Scene& scene) {
   validate_lights(ctx);
-  std::vector<int> parent = validate_hierarchy(ctx);
-  std::vector<glm::dmat4> local(ctx.model.nodes.size());
-  for (size_t i = 0; i < local.size(); ++i) local[i] = local_matrix(ctx, ctx.model.nodes[i], i);
-
-  NodePlacer placer(ctx, meshes, scene);
-  // Depth first, children in file order; an explicit stack, since a valid
-  // file may still nest nodes deeper than the call stack allows.
-  std::vector<std::pair<int, glm::dmat4>> stack;
-  std::vector<int> roots = scene_roots(ctx, parent);
-  for (auto it = roots.rbegin(); it != roots.rend(); ++it) stack.emplace_back(*it, local[*it]);
-  while (!stack.empty()) {
-    auto [node, world] = stack.back();
-    stack.pop_back();
-    placer.place(node, world);
-    const std::vector<int>& children = ctx.model.nodes[node].children;
-    for (auto it = children.rbegin(); it != children.rend(); ++it) stack.emplace_back(*it, world * local[*it]);
+  const std::vector<int> parent = validate_hierarchy(ctx);
+  SceneAnimation anim;
+  anim.deformations = std::move(meshes.deformations);
+  anim.skins = load_skins(ctx, parent);
+  NodeTable table(ctx, parent, anim);
+  std::vector<int> tree_roots;
+  for (size_t i = 0; i < parent.size(); ++i) {
+    if (parent[i] == -1) tree_roots.push_back(static_cast<int>(i));
   }
-  placer.report();
+  anim.update_order = depth_first(ctx, tree_roots);
+  anim.draw_order = depth_first(ctx, scene_roots(ctx, parent));
+  NodeRoles roles(ctx, anim, scene);
+  anim.animations = load_animations(ctx, anim.nodes, anim.deformations);
+  add_posed_meshes(anim, scene);
 
-  if (!scene.draws.empty()) {
-    scene.bounds_min = scene.draws[0].world_bounds_min;
-    scene.bounds_max = scene.draws[0].world_bounds_max;
-    for (const Draw& d : scene.draws) {
-      scene.bounds_min = glm::min(scene.bounds_min, d.world_bounds_min);
-      scene.bounds_max = glm::max(scene.bounds_max, d.world_bounds_max);
-    }
+  const size_t degenerate = pose_scene(scene, anim, std::nullopt, 0.0);
+  table.report();
+  roles.report();
+  if (degenerate > 0) {
+    ctx.warn(std::to_string(degenerate) + " node(s) or instance(s) with a singular or non-finite world matrix are not drawn");
   }
+  if (!anim.animations.empty()) scene.animation = std::make_shared<const SceneAnimation>(std::move(anim));
 }
 
 }  // namespace cr

@@ -12,7 +12,7 @@
 
 namespace cr {
 
-// The extensions the loader implements (KHR_lights_punctual).
+// The extensions the loader implements (the set in gltf_schema.cpp; README "glTF support").
 bool gltf_extension_supported(const std::string& name);
 
 // Throws InputError(path, "... 'meshes[0].primitives' must be an array ...").

@@ -63,7 +63,7 @@ struct TextureRef {
   int sampler = -1;   // index into Scene::samplers, -1 = default sampler
   int texcoord = 0;   // 0: TEXCOORD_0, 1: TEXCOORD_1 (after KHR_texture_transform's texCoord override)
   float scale = 1.0f; // normalTexture.scale or occlusionTexture.strength
-  UvTransform transform;  // KHR_texture_transform (identity without it)
+  UvTransform transform{};  // KHR_texture_transform (identity without it)
   bool valid() const { return image >= 0; }
 };
 

@@ -106,6 +106,19 @@ SunSpec parse_sun(const JsonObject& o) {
   return s;
 }
 
+AnimationSpec parse_animation(const JsonObject& o) {
+  o.allow_only({"index", "name", "time", "fps"});
+  AnimationSpec a;
+  if (o.has("index") == o.has("name")) {
+    throw InputError(o.file(), "'animation' needs exactly one of: \"index\" (a number) or \"name\" (a string)");
+  }
+  if (o.has("index")) a.index = o.integer("index", 0, 1 << 20);
+  if (o.has("name")) a.name = o.string("name");
+  if (o.has("time")) a.time_s = o.number("time", kNonNegative);
+  if (o.has("fps")) a.fps = o.number("fps", {0.0, 1e6, true});
+  return a;
+}
+
 }  // namespace
 
 float emissive_luminance(const SceneDescription& d) {
@@ -157,10 +170,12 @@ SceneDescription load_scene_description(const std::string& path,
       d.frames = root.integer("frames", 1, kMaxFrames);
     } else if (key == "emissive_nits") {
       d.emissive_nits = static_cast<float>(root.number("emissive_nits", {0.0, 1e9}));
+    } else if (key == "animation") {
+      d.animation = parse_animation(root.object("animation"));
     } else if (std::find(plugin_sections.begin(), plugin_sections.end(), key) != plugin_sections.end()) {
       d.plugins[key] = doc.at(key);  // validated by the plugin that owns the section
     } else {
-      std::string allowed = "gltf, camera, sun, exposure_ev100, ambient, frames, emissive_nits";
+      std::string allowed = "gltf, camera, sun, exposure_ev100, ambient, frames, emissive_nits, animation";
       for (const std::string& s : plugin_sections) allowed += ", " + s;
       throw InputError(path, "unknown key '" + key + "' (allowed: " + allowed + ")");
     }

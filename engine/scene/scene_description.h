@@ -45,6 +45,19 @@ struct SunSpec {
   bool from_gltf = false;
 };
 
+// "animation": {"index": N} or {"name": "Walk"}, optionally with "time":
+// seconds (default 0): the glTF animation whose pose at that time is shown
+// (times before its first or after its last keyframe hold that key), and
+// "fps": frames per second of playback: frame f shows time + f / fps (a
+// camera path runs the animation). No "animation" key: the rest pose.
+struct AnimationSpec {
+  std::optional<int> index;  // the glTF animation with this index, else
+  std::string name;          // the first animation with this name
+  double time_s = 0.0;
+  std::optional<double> fps;  // nullopt: every frame shows time_s
+  double time_at(int frame) const { return fps ? time_s + double(frame) / *fps : time_s; }
+};
+
 struct SceneDescription {
   std::string path;       // the scene file (or the glTF path for a bare glTF)
   std::string gltf_path;  // resolved relative to the scene file
@@ -58,6 +71,7 @@ struct SceneDescription {
   // base colour of 1.0. nullopt: the luminance the exposure maps to 1.0,
   // 1.2 * 2^EV100 (emissive_luminance), so glTF emissive reads as intended.
   std::optional<float> emissive_nits;
+  std::optional<AnimationSpec> animation;  // nullopt: the rest pose (scene_animation.h poses it)
   nlohmann::json plugins = nlohmann::json::object();  // "atmosphere", "fog", ... sections
 };
 

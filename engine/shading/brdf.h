@@ -89,6 +89,34 @@ inline BrdfTerms brdf_terms(float n_dot_l, float n_dot_v, float n_dot_h, float v
   return t;
 }
 
+// f0 of one colour channel: mix(0.04, base, metallic), metallic in [0, 1].
+inline float channel_f0(float base, float metallic) { return kDielectricF0 + (base - kDielectricF0) * metallic; }
+
+// One delta light at a shading point: brdf_terms over the half vector of
+// unit l and v (n_dot_l = n.l, n_dot_v = n.v for unit n), and the cosine n.l
+// where light and viewer are above the surface, else 0. Batched lighting
+// loops (the sun, point and spot lights) share it.
+struct LightReflection {
+  BrdfTerms terms;
+  float cosine = 0.0f;
+};
+inline LightReflection light_reflection(float nx, float ny, float nz, float vx, float vy, float vz, float lx,
+                                        float ly, float lz, float n_dot_l, float n_dot_v, float metallic,
+                                        float roughness) {
+  const float hx = lx + vx, hy = ly + vy, hz = lz + vz;
+  const float hlen = std::sqrt(hx * hx + hy * hy + hz * hz);
+  const bool lit = n_dot_l > 0.0f && n_dot_v > 0.0f && hlen > 0.0f;
+  const float inv_h = hlen > 0.0f ? 1.0f / hlen : 0.0f;
+  const float n_dot_h = (nx * hx + ny * hy + nz * hz) * inv_h;
+  const float v_dot_h = (vx * hx + vy * hy + vz * hz) * inv_h;
+  return {brdf_terms(n_dot_l, n_dot_v, n_dot_h, v_dot_h, metallic, roughness), lit ? n_dot_l : 0.0f};
+}
+// f(l, v) * n.l of one colour channel (base colour `base`, f0 `f0`): times the
+// light's illuminance, the radiance it reflects.
+inline float reflected(const LightReflection& r, float base, float f0) {
+  return (r.terms.diffuse * base + (f0 + (1.0f - f0) * r.terms.fresnel_w) * r.terms.specular) * r.cosine;
+}
+
 // Schlick's Fresnel with f90 = 1.
 glm::vec3 schlick_fresnel(const glm::vec3& f0, float v_dot_h);
 // f0 = mix(0.04, baseColor, metallic).

@@ -53,7 +53,7 @@ struct TangentNormals {
 // distinct; a slot without a texture reads 1, and factor * 1 is the factor,
 // so such loops drop the texel). The same floats as point by point.
 [[gnu::noinline]] void run_factors(const Material& material, const MaterialTextures& textures,
-                                   const glm::vec4* __restrict texels, int begin, int end,
+                                   const glm::vec4* __restrict texels, int begin, int end, float emissive_luminance,
                                    const SurfaceBatch& __restrict s, TangentNormals& __restrict t,
                                    ShadingBatch& __restrict b) {
   using enum MaterialTextures::Slot;
@@ -82,6 +82,18 @@ struct TangentNormals {
     }
   }
 
+  if (material.unlit) {
+    // The base colour is the radiance; the other fields at MaterialSample's defaults.
+    for (int i = begin; i < end; ++i) {
+      b.metallic[i] = b.roughness[i] = b.occlusion[i] = 1.0f;
+      t.x[i] = t.y[i] = t.z[i] = t.mapped[i] = 0.0f;
+      b.emissive_r[i] = b.base_r[i] * emissive_luminance;
+      b.emissive_g[i] = b.base_g[i] * emissive_luminance;
+      b.emissive_b[i] = b.base_b[i] * emissive_luminance;
+    }
+    return;
+  }
+
   const float roughness = material.roughness_factor, metallic = material.metallic_factor;
   if (const glm::vec4* tex = slot(kMetallicRoughness)) {
     for (int i = begin; i < end; ++i) {
@@ -105,6 +117,14 @@ struct TangentNormals {
       t.z[i] = normal[i].z * 2.0f - 1.0f;
       t.mapped[i] = 1.0f;
     }
+    if (textures.normal_turned) {
+      const NormalMapTurn turn = textures.normal_turn;
+      for (int i = begin; i < end; ++i) {
+        const float x = t.x[i], y = t.y[i];
+        t.x[i] = turned_x(turn, x, y);
+        t.y[i] = turned_y(turn, x, y);
+      }
+    }
   } else {
     for (int i = begin; i < end; ++i) t.x[i] = t.y[i] = t.z[i] = t.mapped[i] = 0.0f;
   }
@@ -113,24 +133,25 @@ struct TangentNormals {
   const float strength = saturate(material.occlusion.scale);
   for (int i = begin; i < end; ++i) b.occlusion[i] = occlusion ? 1.0f + strength * (occlusion[i].r - 1.0f) : 1.0f;
 
-  const glm::vec3 e = material.emissive_factor;
-  const bool emits = e != glm::vec3(0.0f);
+  const bool emitting = emits(material);
+  const glm::vec3 e = emissive_scale(material, emissive_luminance);
   const glm::vec4* emissive = slot(kEmissive);
   for (int i = begin; i < end; ++i) {
     const glm::vec4 texel = emissive ? emissive[i] : glm::vec4(1.0f);
-    b.emissive_r[i] = emits ? e.r * texel.r * kEmissiveNits : 0.0f;
-    b.emissive_g[i] = emits ? e.g * texel.g * kEmissiveNits : 0.0f;
-    b.emissive_b[i] = emits ? e.b * texel.b * kEmissiveNits : 0.0f;
+    b.emissive_r[i] = emitting ? e.r * texel.r : 0.0f;
+    b.emissive_g[i] = emitting ? e.g * texel.g : 0.0f;
+    b.emissive_b[i] = emitting ? e.b * texel.b : 0.0f;
   }
 }
 
 }  // namespace
 
 void evaluate_materials(const Scene& scene, const SurfaceBatch& surfaces, const Material* const* materials,
-                        ShadingBatch& batch) {
+                        float emissive_luminance, ShadingBatch& batch) {
   TangentNormals normals;
   bool any_mapped = false;
   batch.count = surfaces.count;
+  batch.any_unlit = false;
   for (int i = 0; i < surfaces.count; ++i) {
     batch.position[i] = {surfaces.px[i], surfaces.py[i], surfaces.pz[i]};
     batch.gx[i] = batch.nx[i] = surfaces.nx[i];
@@ -145,12 +166,21 @@ void evaluate_materials(const Scene& scene, const SurfaceBatch& surfaces, const 
     end = begin + 1;
     while (end < surfaces.count && materials[end] == &material) ++end;
     const MaterialTextures textures(scene, material);
-    const TexturePoints points{end - begin,           surfaces.u + begin,     surfaces.v + begin,
-                               surfaces.du_dx + begin, surfaces.dv_dx + begin, surfaces.du_dy + begin,
-                               surfaces.dv_dy + begin};
-    sample_textures(textures.lookups, textures.count, points, texels);
-    run_factors(material, textures, texels, begin, end, surfaces, normals, batch);
-    any_mapped |= material.normal.valid();
+    const int n = end - begin;
+    const TexturePoints uv[2] = {
+        {n, surfaces.u + begin, surfaces.v + begin, surfaces.du_dx + begin, surfaces.dv_dx + begin,
+         surfaces.du_dy + begin, surfaces.dv_dy + begin},
+        {n, surfaces.u1 + begin, surfaces.v1 + begin, surfaces.du1_dx + begin, surfaces.dv1_dx + begin,
+         surfaces.du1_dy + begin, surfaces.dv1_dy + begin}};
+    sample_material_textures(textures, uv, texels);
+    run_factors(material, textures, texels, begin, end, emissive_luminance, surfaces, normals, batch);
+    any_mapped |= needs_tangent(material);
+    if (material.unlit) {
+      // Every other point of the batch is lit: marked so at the first unlit run.
+      if (!batch.any_unlit) std::fill(batch.unlit, batch.unlit + surfaces.count, 0.0f);
+      batch.any_unlit = true;
+      std::fill(batch.unlit + begin, batch.unlit + end, 1.0f);
+    }
   }
   if (any_mapped) apply_normal_maps(surfaces, normals, batch);
 }

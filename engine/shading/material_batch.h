@@ -12,7 +12,8 @@ namespace cr {
 // Fills `batch` with the finished surfaces' points, point k shaded with
 // *materials[k]: what SurfaceShader::add appends for the surface at() gives
 // (the same floats, tested), so that SurfaceShader::shade_batch lights them.
+// `emissive_luminance`: cd/m^2 of emissive 1.0 (material_eval.h).
 void evaluate_materials(const Scene& scene, const SurfaceBatch& surfaces, const Material* const* materials,
-                        ShadingBatch& batch);
+                        float emissive_luminance, ShadingBatch& batch);
 
 }  // namespace cr

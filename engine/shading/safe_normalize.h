@@ -1,13 +1,17 @@
 #pragma once
-// Normalisation that cannot produce NaN: shading runs on whatever the
-// interpolation hands it (zero normals of degenerate triangles, camera on the
-// surface), and one NaN pixel would poison filters and the fog downstream.
+// Normalisation (and a last guard) that cannot produce NaN: shading runs on
+// whatever the interpolation hands it (zero normals of degenerate triangles,
+// camera on the surface), and one NaN pixel would poison filters and the fog
+// downstream.
 #include <cfloat>
 #include <cmath>
 
 #include <glm/glm.hpp>
 
 namespace cr {
+
+// x where finite, else 0: the last guard of a shaded radiance.
+inline float finite_or_zero(float x) { return std::abs(x) <= FLT_MAX ? x : 0.0f; }
 
 // Whether a length normalises: not zero, denormal, infinite or NaN. For
 // vectorised loops (a select per lane); normalize_or_else's test in scalar code.

@@ -1,6 +1,5 @@
 #include "engine/shading/shade_surface.h"
 
-#include <cfloat>
 #include <cmath>
 
 #include "engine/shading/brdf.h"
@@ -16,8 +15,6 @@ constexpr float kPi = 3.14159265358979f;
 // the viewer, where the BRDF is undefined; such normals are bent back just
 // far enough to be seen (a cheap form of the usual "visible normal" fix).
 constexpr float kMinNdotV = 1e-3f;
-
-inline float finite_or_zero(float x) { return std::abs(x) <= FLT_MAX ? x : 0.0f; }
 
 // Sum of SH coefficients times the basis at d, in ShLighting's order.
 inline void sh_sum(const ShCoefficients& c, float dx, float dy, float dz, float& r, float& g, float& b) {
@@ -77,6 +74,24 @@ void view_and_normals(ShadingBatch& s, glm::dvec3 camera,
   }
 }
 
+// No light reaches unlit points: n.l = 0 keeps them from the sun and its shadow.
+// (Both unlit loops out of line: inlined, they cost the batch's other loops
+// more than they take, even when skipped.)
+[[gnu::noinline]] void darken_unlit(const ShadingBatch& s, float* n_dot_l) {
+  for (int i = 0; i < s.count; ++i) n_dot_l[i] = s.unlit[i] != 0.0f ? 0.0f : n_dot_l[i];
+}
+
+// Unlit points' radiance: their emissive terms (base colour * the emissive
+// luminance), in place of what lighting gave.
+[[gnu::noinline]] void unlit_radiance(ShadingBatch& s) {
+  for (int i = 0; i < s.count; ++i) {
+    const bool unlit = s.unlit[i] != 0.0f;
+    s.out_r[i] = unlit ? finite_or_zero(s.emissive_r[i]) : s.out_r[i];
+    s.out_g[i] = unlit ? finite_or_zero(s.emissive_g[i]) : s.out_g[i];
+    s.out_b[i] = unlit ? finite_or_zero(s.emissive_b[i]) : s.out_b[i];
+  }
+}
+
 struct LightingConstants {
   glm::vec3 l;
   const ShCoefficients* radiance;
@@ -97,22 +112,14 @@ void light_points(ShadingBatch& s, const LightingConstants& c,
     const float metallic = s.metallic[i];
     const float m = clamp_nan_safe(metallic, 0.0f, 1.0f);
     const float br = s.base_r[i], bg = s.base_g[i], bb = s.base_b[i];
-    const float f0r = kDielectricF0 + (br - kDielectricF0) * m;
-    const float f0g = kDielectricF0 + (bg - kDielectricF0) * m;
-    const float f0b = kDielectricF0 + (bb - kDielectricF0) * m;
+    const float f0r = channel_f0(br, m), f0g = channel_f0(bg, m), f0b = channel_f0(bb, m);
 
-    // Direct sun (sun_* already hold E_sun * shadow visibility, 0 when unlit).
-    const float hx = l.x + vx[i], hy = l.y + vy[i], hz = l.z + vz[i];
-    const float hlen = std::sqrt(hx * hx + hy * hy + hz * hz);
-    const bool lit = ndl > 0.0f && ndv > 0.0f && hlen > 0.0f;
-    const float inv_h = hlen > 0.0f ? 1.0f / hlen : 0.0f;
-    const float ndh = (nx * hx + ny * hy + nz * hz) * inv_h;
-    const float vdh = (vx[i] * hx + vy[i] * hy + vz[i] * hz) * inv_h;
-    const BrdfTerms t = brdf_terms(ndl, ndv, ndh, vdh, metallic, s.roughness[i]);
-    const float w = lit ? ndl : 0.0f;
-    float r = s.emissive_r[i] + (t.diffuse * br + (f0r + (1.0f - f0r) * t.fresnel_w) * t.specular) * w * sun_r[i];
-    float g = s.emissive_g[i] + (t.diffuse * bg + (f0g + (1.0f - f0g) * t.fresnel_w) * t.specular) * w * sun_g[i];
-    float b = s.emissive_b[i] + (t.diffuse * bb + (f0b + (1.0f - f0b) * t.fresnel_w) * t.specular) * w * sun_b[i];
+    // Direct sun (sun_* already hold E_sun * shadow visibility, 0 where it does not reach).
+    const LightReflection sun =
+        light_reflection(nx, ny, nz, vx[i], vy[i], vz[i], l.x, l.y, l.z, ndl, ndv, metallic, s.roughness[i]);
+    float r = s.emissive_r[i] + reflected(sun, br, f0r) * sun_r[i];
+    float g = s.emissive_g[i] + reflected(sun, bg, f0g) * sun_g[i];
+    float b = s.emissive_b[i] + reflected(sun, bb, f0b) * sun_b[i];
 
     // Ambient: SH irradiance (diffuse) and SH radiance in the mirror direction.
     const EnvironmentBrdf env = environment_brdf(std::max(s.roughness[i], kMinRoughness), std::max(ndv, kMinNdotV));
@@ -138,11 +145,14 @@ SurfaceShader::SurfaceShader(const ShadingInputs& in)
       light_(in.light),
       shadow_(in.shadow && in.shadow->size > 0 ? in.shadow : nullptr),
       camera_position_(in.camera_position),
+      emissive_luminance_(in.emissive_luminance),
       sun_direction_(normalize_or(in.light->sun_direction, glm::vec3(0.0f, 1.0f, 0.0f))),
-      ambient_(in.light->ambient_sh) {}
+      ambient_(in.light->ambient_sh) {
+  for (const PunctualLight& light : scene_->lights) lights_.push_back(punctual_light_terms(light));
+}
 
 void SurfaceShader::add(ShadingBatch& batch, const Material& material, const SurfaceSample& surface) const {
-  const MaterialSample m = evaluate_material(*scene_, material, surface);
+  const MaterialSample m = evaluate_material(*scene_, material, surface, emissive_luminance_);
   batch.add(surface, m, material.alpha_mode == AlphaMode::Blend ? m.alpha : 1.0f);
 }
 
@@ -152,6 +162,7 @@ void SurfaceShader::shade_batch(ShadingBatch& batch) const {
   float vx[kN], vy[kN], vz[kN], n_dot_l[kN];
   normalize_interpolated_normals(batch);
   view_and_normals(batch, camera_position_, sun_direction_, vx, vy, vz, n_dot_l);
+  if (batch.any_unlit) darken_unlit(batch, n_dot_l);
 
   // The sun's illuminance times its visibility, fetched for lit points only.
   float sun_r[kN], sun_g[kN], sun_b[kN];
@@ -200,6 +211,8 @@ void SurfaceShader::shade_batch(ShadingBatch& batch) const {
   const LightingConstants constants{sun_direction_, &ambient_.radiance_coefficients(),
                                     &ambient_.irradiance_coefficients()};
   light_points(batch, constants, vx, vy, vz, n_dot_l, sun_r, sun_g, sun_b);
+  if (!lights_.empty()) add_punctual_lights(batch, lights_.data(), lights_.size(), vx, vy, vz);
+  if (batch.any_unlit) unlit_radiance(batch);
 }
 
 glm::vec4 SurfaceShader::shade(const Material& material, const SurfaceSample& surface) const {

@@ -1,11 +1,15 @@
 #pragma once
-// Lighting of one surface point: the sun (with its shadow) through the glTF
-// BRDF, ambient sky light from SH, emission. Returns linear radiance (cd/m^2)
-// towards the camera and the opacity used for blending.
+// Lighting of one surface point: the sun (with its shadow) and the scene's
+// point and spot lights through the glTF BRDF, ambient sky light from SH,
+// emission. Returns linear radiance (cd/m^2) towards the camera and the
+// opacity used for blending.
+#include <vector>
+
 #include <glm/glm.hpp>
 
 #include "engine/scene/scene.h"
 #include "engine/shading/light_environment.h"
+#include "engine/shading/punctual_lights.h"
 #include "engine/shading/sh_lighting.h"
 #include "engine/shading/shading_batch.h"
 #include "engine/shading/shadow_map.h"
@@ -18,6 +22,9 @@ struct ShadingInputs {
   const LightEnvironment* light = nullptr;
   const ShadowMap* shadow = nullptr;  // null or size 0: unshadowed
   glm::dvec3 camera_position{0.0};
+  // cd/m^2 of glTF emissive 1.0 and of unlit base colour 1.0 (material_eval.h);
+  // the renderer passes emissive_luminance(scene description).
+  float emissive_luminance = 1.0f;
 };
 
 // rgb: radiance leaving the surface towards the camera, not premultiplied.
@@ -26,19 +33,23 @@ struct ShadingInputs {
 //
 // sun      = BRDF(n, v, l) * max(n.l, 0) * E_sun * shadow visibility, E_sun =
 //            light->sun_at(position) when set, else light->sun_illuminance;
+// lights   = sum over scene->lights of BRDF(n, v, l) * max(n.l, 0) * E, E as
+//            punctual_lights.h says (no shadows);
 // ambient  = occlusion * [ E_sh(n) * (1 - metallic) baseColor/pi * (1 - albedo_spec(0.04))
 //                        + L_sh(reflect(-v, n)) * albedo_spec(f0) ],
 //            albedo_spec = Karis' environment-BRDF fit (environment_brdf.h),
 //            E_sh / L_sh = SH irradiance / radiance, clamped at 0;
-// emission = emissive factor * texture * kEmissiveNits.
+// emission = emissive factor * strength * texture * in.emissive_luminance.
+// Unlit materials: baseColor * in.emissive_luminance alone.
 glm::vec4 shade_surface(const ShadingInputs& in, const Material& material, const SurfaceSample& surface);
 
 // shade_surface for many points of one frame, with what does not depend on
 // the point (sun direction, SH band factors, shadow map presence) prepared
 // once, and points lit in batches (vectorised loops, one sun_at call per
-// batch). Same results as shade_surface for every point of a batch. Holds
-// pointers into `in`'s scene, light and shadow map, which must outlive it and
-// not change meanwhile.
+// batch; the point and spot lights' loop skipped when the scene has none).
+// Same results as shade_surface for every point of a batch. Holds pointers
+// into `in`'s scene, light and shadow map, which must outlive it and not
+// change meanwhile (the scene's lights are read at construction).
 class SurfaceShader {
  public:
   explicit SurfaceShader(const ShadingInputs& in);
@@ -54,8 +65,10 @@ class SurfaceShader {
   const LightEnvironment* light_;
   const ShadowMap* shadow_;  // null when unshadowed
   glm::dvec3 camera_position_;
+  float emissive_luminance_;
   glm::vec3 sun_direction_;  // unit
   ShLighting ambient_;
+  std::vector<PunctualLightTerms> lights_;
 };
 
 }  // namespace cr

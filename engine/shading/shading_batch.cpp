@@ -21,6 +21,8 @@ void ShadingBatch::add(const SurfaceSample& surface, const MaterialSample& m, fl
   emissive_g[i] = m.emissive.g;
   emissive_b[i] = m.emissive.b;
   alpha[i] = opacity;
+  unlit[i] = m.unlit ? 1.0f : 0.0f;
+  any_unlit |= m.unlit;
 }
 
 }  // namespace cr

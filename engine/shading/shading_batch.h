@@ -25,11 +25,18 @@ struct ShadingBatch {
   float metallic[kCapacity], roughness[kCapacity], occlusion[kCapacity];
   float emissive_r[kCapacity], emissive_g[kCapacity], emissive_b[kCapacity];
   float alpha[kCapacity];
+  // 1 where the point's material is unlit (KHR_materials_unlit): its
+  // radiance is emissive_*, and no light reaches it. Read only when any_unlit.
+  float unlit[kCapacity];
+  bool any_unlit = false;
   // Results of SurfaceShader::shade_batch: radiance towards the camera.
   float out_r[kCapacity], out_g[kCapacity], out_b[kCapacity];
 
   bool full() const { return count == kCapacity; }
-  void clear() { count = 0; }
+  void clear() {
+    count = 0;
+    any_unlit = false;
+  }
   // Appends one point (the caller checks full() first); `alpha` is the opacity
   // used for blending (1 for OPAQUE and MASK).
   void add(const SurfaceSample& surface, const MaterialSample& m, float opacity);

@@ -102,12 +102,21 @@ ShadowMap fit_shadow_projection(const Camera& view, const glm::vec3& direction_t
   // (c - n)^2 + n^2 k^2 = (f - c)^2 + f^2 k^2 with k the corner slope, unless
   // c would pass the far plane. It depends only on fov, aspect and distances,
   // so rotating the camera never changes the map's scale.
+  // An orthographic view's slice is a box: its sphere is centred half way.
   const double n = std::max(double(view.znear), 1e-6);
-  const double f = std::max(double(shadow_distance), 2.0 * n);
-  const double ty = std::tan(0.5 * double(view.vfov_rad));
-  const double k2 = ty * ty * (1.0 + double(view.aspect) * double(view.aspect));
-  const double c = std::min(0.5 * (f + n) * (1.0 + k2), f);
-  const double radius = std::sqrt(std::max((c - n) * (c - n) + n * n * k2, (f - c) * (f - c) + f * f * k2));
+  double f = std::max(double(shadow_distance), 2.0 * n);
+  double c = 0.0, radius = 0.0;
+  if (view.orthographic) {
+    f = std::max(std::min(f, double(view.zfar)), 2.0 * n);
+    const double hh = double(view.ortho_half_height), hw = hh * double(view.aspect);
+    c = 0.5 * (f + n);
+    radius = std::sqrt(0.25 * (f - n) * (f - n) + hw * hw + hh * hh);
+  } else {
+    const double ty = std::tan(0.5 * double(view.vfov_rad));
+    const double k2 = ty * ty * (1.0 + double(view.aspect) * double(view.aspect));
+    c = std::min(0.5 * (f + n) * (1.0 + k2), f);
+    radius = std::sqrt(std::max((c - n) * (c - n) + n * n * k2, (f - c) * (f - c) + f * f * k2));
+  }
   const glm::dvec3 centre = view.position + glm::dvec3(view.forward) * c;
 
   // Two spare texels: snapping moves the centre by up to half a texel per

@@ -1,6 +1,7 @@
 #include "engine/shading/surface.h"
 
 #include <cmath>
+#include <vector>
 
 #include "engine/shading/safe_normalize.h"
 
@@ -10,6 +11,20 @@ namespace {
 template <typename T>
 T interpolate(const T v[3], const glm::vec3& w) {
   return w.x * v[0] + w.y * v[1] + w.z * v[2];
+}
+
+// A UV set at the barycentrics, with its screen-space derivatives.
+[[gnu::always_inline]] inline void interpolate_uv(const glm::vec2 v[3], const Barycentrics& bary, glm::vec2& uv, glm::vec2& duv_dx,
+                    glm::vec2& duv_dy) {
+  uv = interpolate(v, bary.b);
+  duv_dx = interpolate(v, bary.ddx);
+  duv_dy = interpolate(v, bary.ddy);
+}
+
+// The three corners' values of a vertex stream.
+template <typename T>
+void corners(const std::vector<T>& stream, const uint32_t idx[3], T out[3]) {
+  for (int k = 0; k < 3; ++k) out[k] = stream[idx[k]];
 }
 
 }  // namespace
@@ -22,12 +37,14 @@ glm::vec3 orthogonal_tangent(const glm::vec3& n) {
 }
 
 TriangleSurface::TriangleSurface(const Primitive& primitive, const Draw& draw, uint32_t triangle_index,
-                                 bool front_facing, bool with_tangent)
+                                 bool front_facing, bool with_tangent, bool with_uv1)
     : has_normals_(!primitive.normals.empty()),
       has_tangents_(!primitive.tangents.empty()),
       has_uv_(!primitive.texcoords.empty()),
+      has_uv1_(with_uv1 && !primitive.texcoords1.empty()),
       has_color_(!primitive.colors.empty()),
       with_tangent_(with_tangent),
+      with_uv1_(with_uv1),
       front_facing_(front_facing) {
   const size_t base = size_t(triangle_index) * 3;
   const uint32_t idx[3] = {primitive.indices[base], primitive.indices[base + 1], primitive.indices[base + 2]};
@@ -40,6 +57,8 @@ TriangleSurface::TriangleSurface(const Primitive& primitive, const Draw& draw, u
     uv_[k] = has_uv_ ? primitive.texcoords[idx[k]] : glm::vec2(0.0f);
     color_[k] = has_color_ ? primitive.colors[idx[k]] : glm::vec4(1.0f);
   }
+  if (with_uv1)
+    for (int k = 0; k < 3; ++k) uv1_[k] = has_uv1_ ? primitive.texcoords1[idx[k]] : glm::vec2(0.0f);
   // A mirrored draw reverses the world-space winding, hence the sign.
   const glm::vec3 e1 = world3 * (primitive.positions[idx[1]] - primitive.positions[idx[0]]);
   const glm::vec3 e2 = world3 * (primitive.positions[idx[2]] - primitive.positions[idx[0]]);
@@ -62,11 +81,8 @@ SurfaceSample TriangleSurface::at(const Barycentrics& bary) const {
                                             [&s] { return orthogonal_tangent(s.normal); }),
                           bitangent_sign_);
   }
-  if (has_uv_) {
-    s.uv = interpolate(uv_, w);
-    s.duv_dx = interpolate(uv_, bary.ddx);
-    s.duv_dy = interpolate(uv_, bary.ddy);
-  }
+  if (has_uv_) interpolate_uv(uv_, bary, s.uv, s.duv_dx, s.duv_dy);
+  if (has_uv1_) interpolate_uv(uv1_, bary, s.uv1, s.duv1_dx, s.duv1_dy);
   if (has_color_) s.color = interpolate(color_, w);
 
   if (!front_facing_) {
@@ -78,26 +94,31 @@ SurfaceSample TriangleSurface::at(const Barycentrics& bary) const {
   return s;
 }
 
-SurfaceSample interpolate_uv_color(const Primitive& primitive, uint32_t triangle_index, const Barycentrics& bary) {
+SurfaceSample interpolate_uv_color(const Primitive& primitive, uint32_t triangle_index, const Barycentrics& bary,
+                                   bool with_uv1) {
   const size_t base = size_t(triangle_index) * 3;
   const uint32_t idx[3] = {primitive.indices[base], primitive.indices[base + 1], primitive.indices[base + 2]};
   SurfaceSample s;
+  glm::vec2 uv[3];
   if (!primitive.texcoords.empty()) {
-    const glm::vec2 uv[3] = {primitive.texcoords[idx[0]], primitive.texcoords[idx[1]], primitive.texcoords[idx[2]]};
-    s.uv = interpolate(uv, bary.b);
-    s.duv_dx = interpolate(uv, bary.ddx);
-    s.duv_dy = interpolate(uv, bary.ddy);
+    corners(primitive.texcoords, idx, uv);
+    interpolate_uv(uv, bary, s.uv, s.duv_dx, s.duv_dy);
+  }
+  if (with_uv1 && !primitive.texcoords1.empty()) {
+    corners(primitive.texcoords1, idx, uv);
+    interpolate_uv(uv, bary, s.uv1, s.duv1_dx, s.duv1_dy);
   }
   if (!primitive.colors.empty()) {
-    const glm::vec4 c[3] = {primitive.colors[idx[0]], primitive.colors[idx[1]], primitive.colors[idx[2]]};
+    glm::vec4 c[3];
+    corners(primitive.colors, idx, c);
     s.color = interpolate(c, bary.b);
   }
   return s;
 }
 
 SurfaceSample interpolate_surface(const Primitive& primitive, const Draw& draw, uint32_t triangle_index,
-                                  const Barycentrics& bary, bool front_facing, bool with_tangent) {
-  return TriangleSurface(primitive, draw, triangle_index, front_facing, with_tangent).at(bary);
+                                  const Barycentrics& bary, bool front_facing, bool with_tangent, bool with_uv1) {
+  return TriangleSurface(primitive, draw, triangle_index, front_facing, with_tangent, with_uv1).at(bary);
 }
 
 }  // namespace cr

@@ -21,6 +21,9 @@ struct SurfaceSample {
   glm::vec2 uv{0.0f};                     // TEXCOORD_0
   glm::vec2 duv_dx{0.0f};                 // UV change per pixel step in x
   glm::vec2 duv_dy{0.0f};                 // ... and in y
+  // TEXCOORD_1 and its derivatives: interpolated only with_uv1 (for
+  // materials whose textures read it, needs_uv1 of material_eval.h).
+  glm::vec2 uv1{0.0f}, duv1_dx{0.0f}, duv1_dy{0.0f};
   glm::vec4 color{1.0f};                  // COLOR_0, linear RGBA
   bool front_facing = true;
 };
@@ -35,11 +38,12 @@ struct SurfaceSample {
 // culls back faces of single-sided materials (glTF), so a back face here
 // belongs to a double-sided one. with_tangent = false skips the tangent frame
 // (SurfaceSample::tangent keeps its default) for materials without a normal
-// map, the only reader of it.
+// map, the only reader of it; with_uv1 = true adds TEXCOORD_1 (uv 0 where the
+// primitive has none) for materials whose textures read it.
 class TriangleSurface {
  public:
   TriangleSurface(const Primitive& primitive, const Draw& draw, uint32_t triangle_index, bool front_facing,
-                  bool with_tangent = true);
+                  bool with_tangent = true, bool with_uv1 = false);
   // The surface at barycentrics `bary`; UV derivatives from its derivatives.
   SurfaceSample at(const Barycentrics& bary) const;
   // Appends the surfaces at the centres of pixels x0 .. x0 + count - 1 of
@@ -55,19 +59,22 @@ class TriangleSurface {
   glm::vec3 geometric_normal_;  // backs up missing or degenerate shading normals
   glm::vec3 tangent_[3];     // world 3x3 * tangent xyz
   glm::vec2 uv_[3];
+  glm::vec2 uv1_[3];  // set only with_uv1
   glm::vec4 color_[3];
   float bitangent_sign_ = 1.0f;
-  bool has_normals_, has_tangents_, has_uv_, has_color_, with_tangent_, front_facing_;
+  bool has_normals_, has_tangents_, has_uv_, has_uv1_, has_color_, with_tangent_, with_uv1_, front_facing_;
 };
 
-// TriangleSurface(primitive, draw, triangle_index, front_facing, with_tangent).at(bary).
+// TriangleSurface(primitive, draw, triangle_index, front_facing, with_tangent, with_uv1).at(bary).
 SurfaceSample interpolate_surface(const Primitive& primitive, const Draw& draw, uint32_t triangle_index,
-                                  const Barycentrics& bary, bool front_facing, bool with_tangent = true);
+                                  const Barycentrics& bary, bool front_facing, bool with_tangent = true,
+                                  bool with_uv1 = false);
 
-// Only the UV (with derivatives) and colour of a triangle at `bary`, the rest
-// of the sample at its defaults: what alpha coverage (material_alpha) reads,
-// for the rasterizer's per-fragment MASK test.
-SurfaceSample interpolate_uv_color(const Primitive& primitive, uint32_t triangle_index, const Barycentrics& bary);
+// Only the UVs (with derivatives; TEXCOORD_1 too with_uv1) and colour of a
+// triangle at `bary`, the rest of the sample at its defaults: what alpha
+// coverage (material_alpha) reads, for the rasterizer's per-fragment MASK test.
+SurfaceSample interpolate_uv_color(const Primitive& primitive, uint32_t triangle_index, const Barycentrics& bary,
+                                   bool with_uv1 = false);
 
 // A unit tangent orthogonal to unit n, continuous except where n.z changes
 // sign (Duff et al. 2017, "Building an Orthonormal Basis, Revisited").

@@ -125,6 +125,14 @@ void TriangleSurface::add_span(SurfaceBatch& batch, const TriangleInterp& interp
   attribute(wx, 1, uv_, has_uv_, 0.0f, batch.dv_dx);
   attribute(wy, 0, uv_, has_uv_, 0.0f, batch.du_dy);
   attribute(wy, 1, uv_, has_uv_, 0.0f, batch.dv_dy);
+  if (with_uv1_) {
+    attribute(w, 0, uv1_, has_uv1_, 0.0f, batch.u1);
+    attribute(w, 1, uv1_, has_uv1_, 0.0f, batch.v1);
+    attribute(wx, 0, uv1_, has_uv1_, 0.0f, batch.du1_dx);
+    attribute(wx, 1, uv1_, has_uv1_, 0.0f, batch.dv1_dx);
+    attribute(wy, 0, uv1_, has_uv1_, 0.0f, batch.du1_dy);
+    attribute(wy, 1, uv1_, has_uv1_, 0.0f, batch.dv1_dy);
+  }
   attribute(w, 0, color_, has_color_, 1.0f, batch.cr);
   attribute(w, 1, color_, has_color_, 1.0f, batch.cg);
   attribute(w, 2, color_, has_color_, 1.0f, batch.cb);

@@ -27,6 +27,11 @@ struct SurfaceBatch {
   float u[kCapacity], v[kCapacity];                // TEXCOORD_0
   float du_dx[kCapacity], dv_dx[kCapacity];        // UV change per pixel step in x
   float du_dy[kCapacity], dv_dy[kCapacity];        // ... and in y
+  // TEXCOORD_1 and its derivatives: read only for points added with it
+  // (TriangleSurface's with_uv1).
+  float u1[kCapacity], v1[kCapacity];
+  float du1_dx[kCapacity], dv1_dx[kCapacity];
+  float du1_dy[kCapacity], dv1_dy[kCapacity];
   float cr[kCapacity], cg[kCapacity], cb[kCapacity], ca[kCapacity];  // COLOR_0, linear RGBA
   float facing[kCapacity];  // +1 for a front face, -1 for a back face
   bool any_tangent = false;  // whether some point was added with a tangent

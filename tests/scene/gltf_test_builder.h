@@ -56,6 +56,13 @@ class GltfBuilder {
     return add_accessor(view, component, "SCALAR", values.size());
   }
 
+  // A bufferView holding `values` as they are (sparse indices and values,
+  // quantized or compressed data).
+  template <typename T>
+  int view(const std::vector<T>& values) {
+    return add_view(values.data(), values.size() * sizeof(T));
+  }
+
   int add(const char* array, nlohmann::json item) {
     doc[array].push_back(std::move(item));
     return static_cast<int>(doc[array].size()) - 1;

@@ -14,6 +14,7 @@
 #include "engine/core/error.h"
 #include "engine/scene/gltf_loader.h"
 #include "tests/scene/gltf_test_builder.h"
+#include "tests/khronos_assets.h"
 
 namespace {
 
@@ -295,8 +296,11 @@ TEST_CASE("perspective cameras and the KHR_lights_punctual sun are placed by the
   b.add("nodes", {{"rotation", {pitch.x, pitch.y, pitch.z, pitch.w}}, {"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}});
   b.doc["scenes"] = nlohmann::json::array({{{"nodes", {0, 1, 2}}}});
   cr::Scene s = cr::load_gltf(b.write("camera_and_sun.gltf"));
-  REQUIRE(s.cameras.size() == 1);  // orthographic cameras are skipped
+  REQUIRE(s.cameras.size() == 2);  // perspective and orthographic, in traversal order
+  CHECK(s.cameras[1].orthographic);
+  CHECK(s.cameras[1].zfar == 10.0f);
   const cr::GltfCamera& c = s.cameras[0];
+  CHECK_FALSE(c.orthographic);
   CHECK(glm::length(c.position - glm::vec3(0, 2, 10)) < 1e-5f);
   CHECK(glm::length(c.forward - glm::vec3(-1, 0, 0)) < 1e-5f);
   CHECK(glm::length(c.up - glm::vec3(0, 1, 0)) < 1e-5f);
@@ -309,7 +313,9 @@ TEST_CASE("perspective cameras and the KHR_lights_punctual sun are placed by the
   CHECK(s.sun->color == glm::vec3(1.0f, 0.9f, 0.8f));
 
   cr::Scene cams = cr::load_gltf(kAssimp + "/cameras/Cameras.gltf");
-  CHECK(cams.cameras.size() == 1);
+  REQUIRE(cams.cameras.size() == 2);
+  CHECK_FALSE(cams.cameras[0].orthographic);
+  CHECK(cams.cameras[1].orthographic);
 }
 
 TEST_CASE("scene selection: the default scene, else scene 0, else every root node") {
@@ -346,12 +352,9 @@ TEST_CASE("missing image files: an error listing them, or dropped textures when 
 }
 
 TEST_CASE("FlightHelmet with its three missing textures (CR_ASSETS_DIR)") {
-  const char* assets = std::getenv("CR_ASSETS_DIR");
-  const std::string path = assets ? std::string(assets) + "/FlightHelmet/glTF/FlightHelmet.gltf" : "";
-  if (!assets || !std::filesystem::exists(path)) {
-    MESSAGE("skipped: set CR_ASSETS_DIR to the shared assets directory to run this test");
-    return;
-  }
+  const auto found = cr::test::asset_path("FlightHelmet/glTF/FlightHelmet.gltf");
+  if (!found) return;
+  const std::string& path = *found;
   try {
     cr::load_gltf(path);
     FAIL("expected InputError");

@@ -130,3 +130,39 @@ TEST_CASE("scene file errors name the file and the field") {
         std::string::npos);
   CHECK(error_of(write_scene("not_object.json", nlohmann::json::array({1, 2}))).find("JSON object") != std::string::npos);
 }
+
+TEST_CASE("scene file animation key: by index or name, with a time; strict") {
+  cr::SceneDescription none = cr::load_scene_description(write_scene("no_animation.json", {{"gltf", "scene_box.gltf"}}), kPlugins);
+  CHECK_FALSE(none.animation.has_value());  // the rest pose
+
+  cr::SceneDescription by_index = cr::load_scene_description(
+      write_scene("animation_index.json", {{"gltf", "scene_box.gltf"}, {"animation", {{"index", 2}, {"time", 1.25}}}}), kPlugins);
+  REQUIRE(by_index.animation.has_value());
+  CHECK(by_index.animation->index == 2);
+  CHECK(by_index.animation->time_s == 1.25);
+  CHECK_FALSE(by_index.animation->fps.has_value());  // a still pose on every frame
+  CHECK(by_index.animation->time_at(7) == 1.25);
+  const cr::SceneDescription playing = cr::load_scene_description(
+      write_scene("animation_fps.json", {{"gltf", "scene_box.gltf"}, {"animation", {{"index", 0}, {"time", 0.5}, {"fps", 4}}}}),
+      kPlugins);
+  CHECK(playing.animation->time_at(6) == 0.5 + 6.0 / 4.0);
+
+  cr::SceneDescription by_name = cr::load_scene_description(
+      write_scene("animation_name.json", {{"gltf", "scene_box.gltf"}, {"animation", {{"name", "Walk"}}}}), kPlugins);
+  REQUIRE(by_name.animation.has_value());
+  CHECK_FALSE(by_name.animation->index.has_value());
+  CHECK(by_name.animation->name == "Walk");
+  CHECK(by_name.animation->time_s == 0.0);
+
+  auto bad = [](const char* file, nlohmann::json animation) {
+    return error_of(write_scene(file, {{"gltf", "scene_box.gltf"}, {"animation", std::move(animation)}}));
+  };
+  CHECK(bad("animation_both.json", {{"index", 0}, {"name", "Walk"}}).find("exactly one of") != std::string::npos);
+  CHECK(bad("animation_neither.json", {{"time", 1.0}}).find("exactly one of") != std::string::npos);
+  CHECK(bad("animation_unknown.json", {{"index", 0}, {"speed", 2}}).find("'animation.speed'") != std::string::npos);
+  CHECK(bad("animation_negative_time.json", {{"index", 0}, {"time", -1}}).find("'animation.time'") != std::string::npos);
+  CHECK(bad("animation_negative_index.json", {{"index", -1}}).find("'animation.index'") != std::string::npos);
+  CHECK(bad("animation_zero_fps.json", {{"index", 0}, {"fps", 0}}).find("'animation.fps'") != std::string::npos);
+  CHECK(bad("animation_name_number.json", {{"name", 3}}).find("'animation.name'") != std::string::npos);
+  CHECK(bad("animation_not_object.json", 3).find("'animation'") != std::string::npos);
+}

@@ -1,5 +1,6 @@
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -97,7 +98,7 @@ TEST_CASE("shade: sun term is BRDF * n.l * E, scaled by shadow visibility") {
   CHECK(shade_surface({&scene, &light, &none, in.camera_position}, m, s).r == doctest::Approx(c.r));
 }
 
-TEST_CASE("shade: occlusion darkens only the ambient term; emission adds kEmissiveNits per unit") {
+TEST_CASE("shade: occlusion darkens only the ambient term; emission adds the emissive luminance per unit") {
   Scene scene;
   scene.images.push_back(texel_image(0, 0, 0, 255));  // occlusion 0
   LightEnvironment light;
@@ -123,10 +124,17 @@ TEST_CASE("shade: occlusion darkens only the ambient term; emission adds kEmissi
   Material glow = white_dielectric(1.0f);
   glow.base_color_factor = glm::vec4(0, 0, 0, 1);
   glow.emissive_factor = {1.0f, 0.5f, 0.0f};
-  const glm::vec4 e = shade_surface({&scene, &dark, nullptr, in.camera_position}, glow, flat_sample());
-  CHECK(e.r == doctest::Approx(kEmissiveNits));
-  CHECK(e.g == doctest::Approx(0.5f * kEmissiveNits));
+  const ShadingInputs glowing{.scene = &scene, .light = &dark, .camera_position = in.camera_position,
+                              .emissive_luminance = 800.0f};
+  const glm::vec4 e = shade_surface(glowing, glow, flat_sample());
+  CHECK(e.r == doctest::Approx(800.0f));
+  CHECK(e.g == doctest::Approx(400.0f));
   CHECK(e.b == 0.0f);
+  // KHR_materials_emissive_strength multiplies the factor; strength 0 turns it off.
+  glow.emissive_strength = 6.5f;
+  CHECK(shade_surface(glowing, glow, flat_sample()).r == doctest::Approx(6.5f * 800.0f));
+  glow.emissive_strength = 0.0f;
+  CHECK(shade_surface(glowing, glow, flat_sample()).r == 0.0f);
 }
 
 TEST_CASE("shade: textures, vertex colour and alpha") {
@@ -145,7 +153,7 @@ TEST_CASE("shade: textures, vertex colour and alpha") {
   s.color = glm::vec4(1.0f, 1.0f, 1.0f, 0.5f);
 
   CHECK(material_alpha(scene, m, s) == doctest::Approx(0.5f * 128.0f / 255.0f * 0.5f));
-  const MaterialSample ms = evaluate_material(scene, m, s);
+  const MaterialSample ms = evaluate_material(scene, m, s, 1.0f);
   CHECK(ms.base_color.r == doctest::Approx(1.0f));
   CHECK(ms.base_color.g == doctest::Approx(0.2158605f).epsilon(1e-4));  // sRGB 128 decoded
   CHECK(ms.roughness == doctest::Approx(0.5f * 64.0f / 255.0f));
@@ -155,7 +163,7 @@ TEST_CASE("shade: textures, vertex colour and alpha") {
   // A tilted normal map bends the normal towards +tangent.
   scene.images[2] = texel_image(255, 128, 128, 255);
   m.normal.scale = 1.0f;
-  CHECK(evaluate_material(scene, m, s).normal.x > 0.7f);
+  CHECK(evaluate_material(scene, m, s, 1.0f).normal.x > 0.7f);
 
   LightEnvironment light;
   light.ambient_sh = sh_constant_radiance(glm::vec3(1.0f));
@@ -220,4 +228,46 @@ TEST_CASE("shade: one SurfaceShader reused over many points gives shade_surface'
       CHECK(a == b);
     }
   }
+}
+
+TEST_CASE("shade: unlit materials give base colour * the emissive luminance, whatever the light; alpha still applies") {
+  Scene scene;
+  scene.images.push_back(texel_image(255, 128, 0, 128, true));
+  LightEnvironment light;
+  light.sun_direction = {0, 1, 0};
+  light.sun_illuminance = glm::vec3(1e5f);
+  light.ambient_sh = sh_constant_radiance(glm::vec3(3000.0f));
+  PunctualLight lamp;
+  lamp.position = {0.0f, 1.0f, 0.0f};
+  lamp.intensity = 1e4f;
+  scene.lights = {lamp};
+  ShadowMap shadow = fit_shadow_map(Camera::look_at({0, 2, 5}, {0, 0, 0}, 1.0f, 1.0f, 0.1f), light.sun_direction,
+                                    20.0f, 64, 1, glm::vec3(-10.0f), glm::vec3(10.0f));
+  std::fill(shadow.depth.begin(), shadow.depth.end(), 1.0f);  // the sun shadowed everywhere
+  Material m;
+  m.unlit = true;
+  m.base_color_factor = glm::vec4(0.5f, 1.0f, 1.0f, 0.5f);
+  m.base_color.image = 0;
+  m.emissive_factor = glm::vec3(1.0f);  // ignored by unlit materials
+  SurfaceSample s = flat_sample();
+  s.color = glm::vec4(1.0f, 0.5f, 1.0f, 1.0f);
+  const float luminance = 2500.0f;
+  const glm::vec3 base = glm::vec3(m.base_color_factor) * glm::vec3(sample_material_texture(scene, m.base_color, s)) *
+                         glm::vec3(s.color);
+  const ShadowMap* maps[] = {nullptr, &shadow};
+  for (const ShadowMap* sm : maps) {
+    for (const glm::dvec3 camera : {glm::dvec3(0, 2, 0), glm::dvec3(3, 0.5, -1)}) {
+      const glm::vec4 c = shade_surface({&scene, &light, sm, camera, luminance}, m, s);
+      for (int k = 0; k < 3; ++k) CHECK(c[k] == doctest::Approx(base[k] * luminance).epsilon(1e-6));
+      CHECK(c.a == 1.0f);
+    }
+  }
+  m.alpha_mode = AlphaMode::Blend;
+  CHECK(shade_surface({&scene, &light, nullptr, glm::dvec3(0, 2, 0), luminance}, m, s).a ==
+        doctest::Approx(material_alpha(scene, m, s)));
+  // Unlit materials need neither tangents nor TEXCOORD_1 unless their base colour reads it.
+  m.normal.image = 0;
+  m.emissive = {.image = 0, .texcoord = 1};
+  CHECK_FALSE(needs_tangent(m));
+  CHECK_FALSE(needs_uv1(m));
 }
