@@ -25,7 +25,7 @@ std::pair<size_t, double> segment(const std::vector<Key>& keys, int frame) {
 // The view a model viewer opens with: from the front-right (glTF models face
 // +Z), somewhat above, the bounding sphere filling the narrower field of view.
 Camera three_quarter_view(const Scene& scene, float aspect) {
-  const glm::dvec3 lo(scene.bounds_min), hi(scene.bounds_max);
+  const glm::dvec3 lo(scene.framing_min), hi(scene.framing_max);
   const glm::dvec3 centre = 0.5 * (lo + hi);
   const double radius = std::max(1e-3, 0.5 * glm::length(hi - lo));
   const float vfov = glm::radians(40.0f);

@@ -131,7 +131,9 @@ Plugin* Renderer::plugin(const std::string& name) const {
 
 const FrameRecord& Renderer::render_frame(int frame) {
   if (frame <= last_frame_) throw Error("renderer: frames must be rendered in increasing order");
+  PassTiming pose{"pose", jobs_.now_us(), 0.0};
   if (pose_) pose_(frame);
+  pose.end_us = jobs_.now_us();
   FrameView view = frame_view(frame);
   if (frame != last_frame_ + 1) {  // skipped frames: temporal history is not valid
     view.history_valid = false;
@@ -391,6 +393,10 @@ const FrameRecord& Renderer::render_frame(int frame) {
   graph.execute(jobs_);
   record_.frame_ms = (jobs_.now_us() - record_.begin_us) * 1e-3;
   record_.passes = graph.timings();
+  if (pose_) {  // playback's posing is part of the frame's cost
+    record_.frame_ms += pose.ms();
+    record_.passes.insert(record_.passes.begin(), pose);
+  }
   record_.culled = graph.culled_pass_names();
   record_.jobs = jobs_.take_records();
   const RasterStats& st = geo.stats;

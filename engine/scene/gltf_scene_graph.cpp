@@ -417,6 +417,8 @@ void place_nodes(const GltfContext& ctx, GltfMeshes& meshes, Scene& scene) {
   add_posed_meshes(anim, scene);
 
   const size_t degenerate = pose_scene(scene, anim, std::nullopt, 0.0);
+  scene.framing_min = scene.bounds_min;
+  scene.framing_max = scene.bounds_max;
   table.report();
   roles.report();
   if (degenerate > 0) {

@@ -177,6 +177,11 @@ struct Scene {
   std::shared_ptr<const SceneAnimation> animation;  // null when the file has nothing to animate
   glm::vec3 bounds_min{0.0f};  // world AABB of all draws
   glm::vec3 bounds_max{0.0f};
+  // What the automatic view frames: the world AABB of the pose the scene was
+  // loaded or described at. Playback (pose_scene per frame) leaves it, so an
+  // automatic view holds still while the scene moves.
+  glm::vec3 framing_min{0.0f};
+  glm::vec3 framing_max{0.0f};
 
   const Primitive& primitive(const Draw& d) const { return meshes[d.mesh].primitives[d.primitive]; }
   size_t triangle_count() const {

@@ -252,6 +252,8 @@ std::optional<size_t> described_animation(const Scene& scene, const SceneDescrip
 void pose_described_scene(Scene& scene, const SceneDescription& description) {
   if (std::optional<size_t> chosen = described_animation(scene, description)) {
     pose_scene(scene, *scene.animation, chosen, description.animation->time_s);
+    scene.framing_min = scene.bounds_min;
+    scene.framing_max = scene.bounds_max;
     return;
   }
   if (scene.animation && !scene.animation->animations.empty()) {

@@ -130,8 +130,9 @@ size_t pose_scene(Scene& scene, const SceneAnimation& animation_data, std::optio
 std::optional<size_t> described_animation(const Scene& scene, const SceneDescription& description);
 
 // Poses a loaded scene as its scene file asks: the chosen animation at its
-// time, else the rest pose (as loaded), with one warning when the file has
-// animations that are not shown.
+// time (which the automatic view then frames: Scene::framing_*), else the
+// rest pose (as loaded), with one warning when the file has animations that
+// are not shown.
 void pose_described_scene(Scene& scene, const SceneDescription& description);
 
 }  // namespace cr
