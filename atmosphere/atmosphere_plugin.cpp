@@ -26,6 +26,7 @@ bool AtmospherePlugin::configure(const Scene& scene, const SceneDescription& des
   }
   scheduler_ = std::make_unique<LutScheduler>(settings_);
   scheduler_->set_model(scene_.model);
+  environment_ = std::make_unique<SkyEnvironment>(settings_);
   return true;
 }
 
@@ -61,24 +62,44 @@ void AtmospherePlugin::add_passes(FrameGraph& graph, FrameContext& ctx) {
       [sched, plan, sky, camera, offset, illuminance] {
         *sky = make_sky_frame(*sched, *plan, camera, offset, illuminance);
       });
+  SkyEnvironment* env = environment_.get();
+  const uint64_t upstream = sched->version(LutKind::MultiScattering) +
+                            (plan_.work[size_t(LutKind::MultiScattering)].publishes ? 1 : 0);
+  environment_work_ = env->plan(plan_, upstream);
+  if (environment_work_.active) {
+    const EnvironmentWork* work = &environment_work_;
+    graph.add_pass(
+        "atmosphere.environment",
+        [](FrameGraph::Builder& b) {
+          b.read("atmosphere.sky");
+          b.write("atmosphere.environment");
+        },
+        [env, work, plan, upstream, sky, jobs] { env->run(*work, *plan, upstream, *sky, *jobs); });
+  }
   LightEnvironment* light = &ctx.light;
   graph.add_pass(
       "atmosphere.lighting",
       [](FrameGraph::Builder& b) {
         b.read("atmosphere.sky");
+        b.read("atmosphere.environment");
         b.write("light_environment");
       },
-      [sky, light] { fill_light_environment(*sky, *light); });
+      [sky, light, env] { fill_light_environment(*sky, *light, env->front()); });
 }
 
 void AtmospherePlugin::composite(const FrameContext& ctx, int x0, int y0, int x1, int y1) {
   composite_sky(sky_, ctx.buffers, x0, y0, x1, y1);
 }
 
+void AtmospherePlugin::composite_fragments(const FrameContext& ctx, std::span<EdgeFragment> fragments) {
+  composite_sky_fragments(sky_, ctx.buffers.width, ctx.buffers.height, fragments);
+}
+
 void AtmospherePlugin::report_frame(nlohmann::json& frame) {
   if (!scheduler_) return;
   nlohmann::json r = scheduler_->report(plan_);
   for (auto it = r.begin(); it != r.end(); ++it) frame[it.key()] = it.value();
+  frame["environment"] = environment_->report(environment_work_, plan_.frame);
 }
 
 void register_atmosphere_plugin(PluginRegistry& registry) {

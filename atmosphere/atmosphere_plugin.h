@@ -7,9 +7,11 @@
 //   atmosphere.multiscattering     reads transmittance, writes atmosphere.multiscattering
 //   atmosphere.skyview             reads both, writes atmosphere.skyview
 //   atmosphere.aerial_perspective  reads both, writes atmosphere.aerial_perspective
+//   atmosphere.environment         reads atmosphere.sky, writes atmosphere.environment
+//                                  (a slice of the prefiltered specular environment, sky_environment.h)
 // and every frame:
-//   atmosphere.lighting            reads the LUTs, writes light_environment
 //   atmosphere.sky                 reads the LUTs, writes atmosphere.sky (the composite's input)
+//   atmosphere.lighting            reads atmosphere.sky and atmosphere.environment, writes light_environment
 #include <memory>
 #include <optional>
 #include <string>
@@ -19,6 +21,7 @@
 #include "atmosphere/atmosphere_settings.h"
 #include "atmosphere/lut_scheduler.h"
 #include "atmosphere/planet_frame.h"
+#include "atmosphere/sky_environment.h"
 #include "atmosphere/sky_frame.h"
 #include "engine/render/plugin.h"
 
@@ -33,10 +36,12 @@ class AtmospherePlugin : public Plugin {
   int composite_order() const override { return 100; }
   bool has_composite() const override { return true; }
   void composite(const FrameContext& ctx, int x0, int y0, int x1, int y1) override;
+  void composite_fragments(const FrameContext& ctx, std::span<EdgeFragment> fragments) override;
   void report_frame(nlohmann::json& frame) override;
 
   const LutScheduler* scheduler() const { return scheduler_.get(); }
   const SkyFrame& sky_frame() const { return sky_; }
+  const SkyEnvironment* environment() const { return environment_.get(); }
 
  private:
   AtmosphereSceneConfig scene_;
@@ -44,6 +49,8 @@ class AtmospherePlugin : public Plugin {
   std::unique_ptr<LutScheduler> scheduler_;
   AtmospherePlan plan_;
   SkyFrame sky_;
+  std::unique_ptr<SkyEnvironment> environment_;
+  EnvironmentWork environment_work_;
 };
 
 // Adds the "atmosphere" plugin factory and the sky-* commands.

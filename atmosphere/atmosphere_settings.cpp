@@ -75,6 +75,18 @@ AtmosphereSettings parse_atmosphere_settings(const nlohmann::json& section, cons
   }
   sched.finish();
 
+  ConfigFields env = f.object("environment");
+  s.environment_size = env.integer("size", s.environment_size, 8, 256);
+  if ((s.environment_size & (s.environment_size - 1)) != 0)
+    env.fail("size", "must be a power of two (its box-filtered mip chain halves it), e.g. 64");
+  s.environment_levels = env.integer("levels", s.environment_levels, 1, 10);
+  s.environment_samples = env.integer("samples", s.environment_samples, 1, 1024);
+  s.environment_schedule.period = env.integer("period", s.environment_schedule.period, 1, 100000);
+  s.environment_schedule.slices = env.integer("slices", s.environment_schedule.slices, 1, 1024);
+  if (s.environment_schedule.slices > s.environment_schedule.period)
+    env.fail("slices", "must be <= period (a rebuild must finish before the next starts)");
+  env.finish();
+
   ConfigFields inv = f.object("invalidation");
   s.invalidate_sun_deg = float(inv.number("sun_deg", s.invalidate_sun_deg, 0.0, 180.0));
   s.invalidate_camera_m = float(inv.number("camera_m", s.invalidate_camera_m, 0.0, 1e9));

@@ -46,7 +46,16 @@ struct AtmosphereSettings {
   int ap_steps_per_slice = 2;
 
   std::array<LutSchedule, kLutKinds> schedule{{{16, 1}, {16, 1}, {4, 1}, {6, 1}}};
-  bool full_schedule = false;  // rebuild all four LUTs every frame
+  bool full_schedule = false;  // rebuild all four LUTs (and the environment) every frame
+
+  // The prefiltered specular environment (sky_environment.h): level 0's
+  // octahedral width (a power of two), GGX levels, samples per texel of a
+  // level of level 0's size, and its own schedule (invalidated by the
+  // thresholds below like the sky-view LUT).
+  int environment_size = 64;
+  int environment_levels = 6;
+  int environment_samples = 32;
+  LutSchedule environment_schedule{16, 4};
 
   float invalidate_sun_deg = 0.5f;     // sun zenith/direction change that forces sky-view and AP rebuilds
   float invalidate_camera_m = 50.0f;   // camera move (altitude for sky-view, position for AP)

@@ -620,4 +620,12 @@ void composite_sky(const SkyFrame& f, FrameBuffers& buffers, int x0, int y0, int
   }
 }
 
+void composite_sky_fragments(const SkyFrame& f, int width, int height, std::span<EdgeFragment> fragments) {
+  if (!f.valid) return;
+  for (EdgeFragment& e : fragments) {
+    const glm::vec3 dir = f.camera.ray_direction(e.x, e.y, width, height);
+    e.color = e.depth == 0.0f ? sky_radiance(f, dir, true) : apply_aerial_perspective(f, dir, e.distance, e.color);
+  }
+}
+
 }  // namespace cr

@@ -6,6 +6,7 @@
 // the space fallback the sky-view LUT is the one built for space and opaque
 // pixels are ray marched.
 #include <cstddef>
+#include <span>
 
 #include <glm/glm.hpp>
 
@@ -27,5 +28,10 @@ glm::vec3 sun_disk_radiance(const SkyFrame& f, const glm::vec3& dir);
 
 // Composites the rectangle [x0, x1) x [y0, y1) of the buffers in place.
 void composite_sky(const SkyFrame& f, FrameBuffers& buffers, int x0, int y0, int x1, int y1);
+// The same for edge-pixel fragments of a width x height frame, each along
+// the ray through its own screen position, at its own distance (one at a
+// time through sky_radiance and apply_aerial_perspective, the definitions
+// the pixels' batched composite follows).
+void composite_sky_fragments(const SkyFrame& f, int width, int height, std::span<EdgeFragment> fragments);
 
 }  // namespace cr

@@ -14,11 +14,13 @@ std::array<glm::vec3, 9> sky_ambient_sh(const SkyFrame& f) {
   return sh_project([&f](const glm::vec3& d) { return sky_radiance(f, d, false); });
 }
 
-void fill_light_environment(const SkyFrame& f, LightEnvironment& light) {
+void fill_light_environment(const SkyFrame& f, LightEnvironment& light,
+                            std::shared_ptr<const SpecularEnvironment> specular) {
   light.sun_direction = f.sun;
   if (!f.valid) return;
   light.sun_illuminance = f.sun_illuminance * f.transmittance->sun(f.camera_row, f.mu_s);
   light.ambient_sh = sky_ambient_sh(f);
+  light.specular = std::move(specular);
   // The lambda owns its LUT snapshot: shading may run while the next frame republishes.
   std::shared_ptr<const TransmittanceLut> lut = f.transmittance;
   const glm::dvec3 offset = f.planet_offset;

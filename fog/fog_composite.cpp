@@ -418,4 +418,14 @@ void composite_fog(const FroxelGrid& grid, const std::vector<IntegratedFroxel>& 
 #endif
 }
 
+void composite_fog_fragments(const FroxelGrid& grid, const std::vector<IntegratedFroxel>& volume,
+                             std::span<EdgeFragment> fragments) {
+  for (EdgeFragment& e : fragments) {
+    glm::vec3 in_scatter;
+    float transmittance;
+    lookup_fog(grid, volume, e.x, e.y, e.distance, in_scatter, transmittance);
+    e.color = e.color * transmittance + in_scatter;
+  }
+}
+
 }  // namespace cr

@@ -63,6 +63,10 @@ void FogPlugin::composite(const FrameContext& ctx, int x0, int y0, int x1, int y
   fog_->composite(ctx.buffers, x0, y0, x1, y1);
 }
 
+void FogPlugin::composite_fragments(const FrameContext&, std::span<EdgeFragment> fragments) {
+  fog_->composite_fragments(fragments);
+}
+
 void FogPlugin::report_frame(nlohmann::json& frame) {
   if (!fog_) return;
   const FroxelGrid& g = fog_->grid();

@@ -23,6 +23,7 @@ class FogPlugin : public Plugin {
   int composite_order() const override { return 200; }
   bool has_composite() const override { return true; }
   void composite(const FrameContext& ctx, int x0, int y0, int x1, int y1) override;
+  void composite_fragments(const FrameContext& ctx, std::span<EdgeFragment> fragments) override;
   void report_frame(nlohmann::json& frame) override;
 
   // The fog state (for commands and tests); null before configure().

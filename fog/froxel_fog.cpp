@@ -218,6 +218,10 @@ void FroxelFog::composite(FrameBuffers& buffers, int x0, int y0, int x1, int y1)
   composite_fog(view_.grid, volume_, buffers.distance, buffers.color, buffers.width, x0, y0, x1, y1);
 }
 
+void FroxelFog::composite_fragments(std::span<EdgeFragment> fragments) const {
+  composite_fog_fragments(view_.grid, volume_, fragments);
+}
+
 void FroxelFog::render(const FrameView& view, const LightEnvironment& light, const ShadowMap& shadow,
                        JobSystem& jobs, const std::vector<float>* distance, const ShadowMap* previous_shadow) {
   begin_frame(view, jobs, distance);

@@ -9,6 +9,7 @@
 // (a view seen last frame keeps its density, and the lighting prefetches
 // the row). A still view lights until its jitter sequence is complete, then
 // fades its history to the sequence's mean and freezes (see lighting()).
+#include <span>
 #include <vector>
 
 #include "engine/core/job_system.h"
@@ -62,6 +63,8 @@ class FroxelFog {
   void filter(JobSystem& jobs);
   void integrate(const LightEnvironment& light, JobSystem& jobs);
   void composite(FrameBuffers& buffers, int x0, int y0, int x1, int y1) const;
+  // The same for edge-pixel fragments, each at its own position and distance.
+  void composite_fragments(std::span<EdgeFragment> fragments) const;
   // All steps but the composite, in order.
   void render(const FrameView& view, const LightEnvironment& light, const ShadowMap& shadow, JobSystem& jobs,
               const std::vector<float>* distance = nullptr, const ShadowMap* previous_shadow = nullptr);

@@ -13,11 +13,13 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <span>
 #include <vector>
 
 #include <glm/glm.hpp>
 
 #include "engine/core/job_system.h"
+#include "engine/render/frame_buffers.h"
 #include "engine/scene/camera.h"
 #include "engine/shading/light_environment.h"
 #include "fog/fog_medium.h"
@@ -211,6 +213,9 @@ size_t integrate_columns(const FroxelView& view, const std::vector<FogDensity>& 
 void composite_fog(const FroxelGrid& grid, const std::vector<IntegratedFroxel>& volume,
                    const std::vector<float>& distance, std::vector<glm::vec3>& color, int width, int x0, int y0,
                    int x1, int y1);
+// The same for edge-pixel fragments, each at its own screen position and distance.
+void composite_fog_fragments(const FroxelGrid& grid, const std::vector<IntegratedFroxel>& volume,
+                             std::span<EdgeFragment> fragments);
 // The lookup itself: in-scattered radiance and transmittance at a pixel position and distance.
 void lookup_fog(const FroxelGrid& grid, const std::vector<IntegratedFroxel>& volume, float px, float py,
                 float distance, glm::vec3& in_scatter, float& transmittance);

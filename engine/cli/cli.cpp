@@ -28,6 +28,8 @@ std::vector<Command> all_commands(const PluginRegistry& registry) {
        [&](const auto& a) { return render_command(a, registry); }},
       {"bench", "benchmark the default scene and glTF files at 1 and all threads",
        [&](const auto& a) { return bench_command(a, registry); }},
+      {"aa-error", "anti-aliasing modes: edge error against a supersampled render, cost per pass",
+       [&](const auto& a) { return antialiasing_command(a, registry); }},
       {"compare", "compare two images (PNG/EXR): metrics, FLIP, pass/fail, diff image",
        [](const auto& a) { return compare_command(a); }},
       {"golden", "golden-image check of every scene and profile (1 vs N threads bit-exact); --update",

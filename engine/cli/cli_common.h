@@ -48,5 +48,6 @@ void write_frame_exr(const std::string& path, const FrameBuffers& buffers);
 
 int render_command(const std::vector<std::string>& args, const PluginRegistry& registry);
 int bench_command(const std::vector<std::string>& args, const PluginRegistry& registry);
+int antialiasing_command(const std::vector<std::string>& args, const PluginRegistry& registry);
 
 }  // namespace cr

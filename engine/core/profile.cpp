@@ -59,11 +59,20 @@ Profile parse_profile(const nlohmann::json& doc, const std::string& path,
       } else {
         root.fail(key, "must be \"float32\" or \"fixed16\", found \"" + s + "\"");
       }
+    } else if (key == "antialiasing") {
+      const std::string s = root.string("antialiasing");
+      if (s == "none") {
+        p.msaa_samples = 1;
+      } else if (s == "msaa2" || s == "msaa4" || s == "msaa8") {
+        p.msaa_samples = s[4] - '0';
+      } else {
+        root.fail(key, "must be \"none\", \"msaa2\", \"msaa4\" or \"msaa8\", found \"" + s + "\"");
+      }
     } else if (std::find(plugin_sections.begin(), plugin_sections.end(), key) != plugin_sections.end()) {
       p.plugins[key] = doc.at(key);  // validated by the plugin that owns the section
     } else {
       std::string allowed = "name, resolution, tile_size, shadow_map_size, shadow_distance, "
-                            "shadow_pcf_radius, frame_budget_ms, texture_decode_budget_mb, precision";
+                            "shadow_pcf_radius, frame_budget_ms, texture_decode_budget_mb, precision, antialiasing";
       for (const std::string& s : plugin_sections) allowed += ", " + s;
       throw InputError(path, "unknown key '" + key + "' (allowed: " + allowed + ")");
     }

@@ -29,6 +29,9 @@ struct Profile {
   // from RGBA8 through decode tables, with the same results.
   int texture_decode_budget_mb = 512;
   Precision precision = Precision::Float32;
+  // Anti-aliasing ("antialiasing": "none" | "msaa2" | "msaa4" | "msaa8"):
+  // coverage and depth samples per pixel of the visibility buffer (1 = none).
+  int msaa_samples = 1;
   nlohmann::json plugins = nlohmann::json::object();  // raw plugin sections by name
 };
 

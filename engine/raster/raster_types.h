@@ -52,6 +52,20 @@ using CoverageFn = std::function<bool(uint32_t triangle_id, const Barycentrics&)
 // Blended fragment that passed the opaque depth test, delivered per pixel in primitive order.
 using FragmentFn = std::function<void(int x, int y, uint32_t triangle_id, const Barycentrics&)>;
 
+// Multisampling: the pixels of one tile whose samples do not all see the
+// same triangle, in row-major order, with every sample's id and depth
+// (pattern.count per pixel, in the pattern's order).
+struct MixedSamples {
+  std::vector<uint32_t> pixels;    // y * width + x
+  std::vector<uint32_t> triangle;  // kNoTriangle: that sample sees nothing
+  std::vector<float> depth;
+  void clear() {
+    pixels.clear();
+    triangle.clear();
+    depth.clear();
+  }
+};
+
 struct TileStats {
   uint64_t triangles = 0;       // screen triangles binned to the tile
   uint64_t pixels_covered = 0;  // samples inside a triangle (before depth and alpha tests)

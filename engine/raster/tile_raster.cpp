@@ -58,6 +58,7 @@ struct TileContext {
   int x0, y0;  // tile origin in the image
   const TileTarget* target;
   TileStats* stats;
+  float sample_dx = 0.0f, sample_dy = 0.0f;  // the sample's offset from the pixel centre (alpha-mask coverage)
 };
 
 int mask_of(__m128i lo, __m128i hi) {
@@ -129,7 +130,7 @@ struct TriangleWalk {
     int pass = mask_of(pass_lo, pass_hi);
     if (!pass) return;
 
-    const float py = float(y) + 0.5f;
+    const float py = float(y) + 0.5f + ctx.sample_dy;
     if constexpr (Mode == TileMode::Blended) {
       passed += kBitCount[pass];
       for (int bits = pass; bits; bits &= bits - 1) {
@@ -140,7 +141,8 @@ struct TriangleWalk {
       if (t.alpha_mask) {
         for (int bits = pass; bits; bits &= bits - 1) {
           const int lane = std::countr_zero(unsigned(bits));
-          if (!(*ctx.target->coverage)(t.id, interpolate(interp, float(x + lane) + 0.5f, py))) pass &= ~(1 << lane);
+          if (!(*ctx.target->coverage)(t.id, interpolate(interp, float(x + lane) + 0.5f + ctx.sample_dx, py)))
+            pass &= ~(1 << lane);
         }
         if (!pass) return;
         const __m128i p = _mm_set1_epi32(pass);
@@ -233,8 +235,70 @@ void walk_blocks(TriangleWalk& w, const PixelRect& r) {
 }
 
 template <TileMode Mode>
+void walk(TriangleWalk& w, const PixelRect& r) {
+  if (w.t.small)
+    walk_small<Mode>(w, r);
+  else
+    walk_blocks<Mode>(w, r);
+  w.ctx.stats->pixels_covered += w.covered;
+  w.ctx.stats->pixels_passed += w.passed;
+}
+
+// The triangle as sample s of the pattern sees it at the pixel centres:
+// edge constants and depth plane moved by the sample's offset.
+ScreenTriangle at_sample(const ScreenTriangle& t, const SamplePattern& pattern, int s) {
+  ScreenTriangle ts = t;
+  const int64_t dx = pattern.dx_subpixels(s), dy = pattern.dy_subpixels(s);
+  for (int e = 0; e < 3; ++e) ts.c[e] = (t.c_num[e] + t.a[e] * dx + t.b[e] * dy) >> kSubpixelBits;
+  ts.z0 = t.z0 + (t.zx * pattern.dx(s) + t.zy * pattern.dy(s));
+  return ts;
+}
+
+// Resolves a multisampled tile's layers into the image (see tile_raster.h):
+// per row, a branch-free pass (it vectorises) for the ids, the mean depths
+// and which pixels are mixed, then the mixed ones listed.
+void resolve_samples(const TileScratch& scratch, size_t layer, int stride, const PixelRect& rect,
+                     const TileTarget& target) {
+  const int n = target.pattern.count;
+  const float inv_n = 1.0f / float(n);
+  MixedSamples& mixed = *target.mixed;
+  mixed.clear();
+  const uint32_t* __restrict ids = scratch.ids.data();
+  const float* __restrict depth = scratch.depth.data();
+  const int w = rect.x1 - rect.x0 + 1;
+  uint8_t differs[256];
+  for (int y = 0; y <= rect.y1 - rect.y0; ++y) {
+    const size_t in = size_t(y) * size_t(stride);
+    const size_t out = size_t(rect.y0 + y) * size_t(target.stride) + size_t(rect.x0);
+    uint32_t* __restrict out_ids = target.ids + out;
+    float* __restrict out_depth = target.depth + out;
+    for (int x = 0; x < w; ++x) {
+      const uint32_t first = ids[in + size_t(x)];
+      uint8_t d = 0;
+      float z = depth[in + size_t(x)];
+      for (int s = 1; s < n; ++s) {
+        d |= ids[size_t(s) * layer + in + size_t(x)] != first;
+        z += depth[size_t(s) * layer + in + size_t(x)];
+      }
+      differs[x] = d;
+      out_ids[x] = first;
+      out_depth[x] = d ? depth[in + size_t(x)] : z * inv_n;
+    }
+    for (int x = 0; x < w; ++x) {
+      if (!differs[x]) continue;
+      mixed.pixels.push_back(uint32_t(out + size_t(x)));
+      for (int s = 0; s < n; ++s) {
+        mixed.triangle.push_back(ids[size_t(s) * layer + in + size_t(x)]);
+        mixed.depth.push_back(depth[size_t(s) * layer + in + size_t(x)]);
+      }
+    }
+  }
+}
+
+template <TileMode Mode>
 void raster_triangles(const PixelRect& tile_rect, std::span<const GeometryChunk> chunks, int tile,
-                      const TileContext& ctx) {
+                      const TileContext& ctx, size_t layer) {
+  const SamplePattern& pattern = ctx.target->pattern;
   for (const GeometryChunk& chunk : chunks) {
     const SetupBatch& setup = chunk.setup;
     const uint32_t end = chunk.bins.begin[tile + 1];
@@ -242,14 +306,22 @@ void raster_triangles(const PixelRect& tile_rect, std::span<const GeometryChunk>
       const uint32_t k = chunk.bins.items[i];
       const ScreenTriangle& t = setup.triangles[k];
       const PixelRect r = intersect(setup.bounds[k], tile_rect);
-      TriangleWalk walk(t, setup.interps[t.interp], ctx);
-      if (t.small)
-        walk_small<Mode>(walk, r);
-      else
-        walk_blocks<Mode>(walk, r);
       ctx.stats->triangles += 1;
-      ctx.stats->pixels_covered += walk.covered;
-      ctx.stats->pixels_passed += walk.passed;
+      if (pattern.count == 1) {
+        TriangleWalk w(t, setup.interps[t.interp], ctx);
+        walk<Mode>(w, r);
+        continue;
+      }
+      for (int s = 0; s < pattern.count; ++s) {
+        const ScreenTriangle ts = at_sample(t, pattern, s);
+        TileContext sample_ctx = ctx;
+        sample_ctx.depth += size_t(s) * layer;
+        sample_ctx.ids += size_t(s) * layer;
+        sample_ctx.sample_dx = pattern.dx(s);
+        sample_ctx.sample_dy = pattern.dy(s);
+        TriangleWalk w(ts, setup.interps[t.interp], sample_ctx);
+        walk<Mode>(w, r);
+      }
     }
   }
 }
@@ -263,7 +335,9 @@ void raster_tile(int tile, const TileGrid& grid, std::span<const GeometryChunk> 
   const PixelRect rect = grid.tile_rect(tile);
   const int w = rect.x1 - rect.x0 + 1, h = rect.y1 - rect.y0 + 1;
   const int stride = grid.tile_size + kRowPadding;
-  const size_t size = size_t(stride) * grid.tile_size;
+  const size_t layer = size_t(stride) * grid.tile_size;
+  const int samples = target.mode == TileMode::Visibility ? target.pattern.count : 1;
+  const size_t size = layer * size_t(samples);
   if (scratch.depth.size() < size) {
     scratch.depth.resize(size);
     scratch.ids.resize(size);
@@ -280,12 +354,16 @@ void raster_tile(int tile, const TileGrid& grid, std::span<const GeometryChunk> 
   stats = {};
   const TileContext ctx{scratch.depth.data(), scratch.ids.data(), stride, rect.x0, rect.y0, &target, &stats};
   switch (target.mode) {
-    case TileMode::Visibility: raster_triangles<TileMode::Visibility>(rect, chunks, tile, ctx); break;
-    case TileMode::Depth: raster_triangles<TileMode::Depth>(rect, chunks, tile, ctx); break;
-    case TileMode::Blended: raster_triangles<TileMode::Blended>(rect, chunks, tile, ctx); break;
+    case TileMode::Visibility: raster_triangles<TileMode::Visibility>(rect, chunks, tile, ctx, layer); break;
+    case TileMode::Depth: raster_triangles<TileMode::Depth>(rect, chunks, tile, ctx, layer); break;
+    case TileMode::Blended: raster_triangles<TileMode::Blended>(rect, chunks, tile, ctx, layer); break;
   }
 
   if (target.mode == TileMode::Blended) return;
+  if (samples > 1) {
+    resolve_samples(scratch, layer, stride, rect, target);
+    return;
+  }
   for (int y = 0; y < h; ++y) {
     const size_t out = size_t(rect.y0 + y) * target.stride + rect.x0;
     std::memcpy(target.depth + out, &scratch.depth[size_t(y) * stride], sizeof(float) * w);

@@ -12,10 +12,20 @@
 // is asked only for samples that pass it. Everything a pixel sees is a pure
 // function of the pixel and the triangle, so results do not depend on the
 // tile size or on which thread runs the tile.
+//
+// Multisampled visibility (a pattern of 2-8 samples): each sample is a
+// tile-local layer of its own, rasterised as the triangle shifted by minus
+// the sample's offset, with the edge constants recomputed exactly from
+// ScreenTriangle::c_num and the depth plane moved to the sample; alpha-mask
+// coverage is asked at each sample's own position. While the layers are in
+// cache the tile is resolved: a pixel whose samples all see one triangle
+// gets its id and its samples' mean depth in the image, any other is listed
+// with all its samples (MixedSamples) and gets its first sample's.
 #include <cstdint>
 #include <span>
 
 #include "engine/raster/raster_types.h"
+#include "engine/raster/sample_pattern.h"
 #include "engine/raster/tile_binner.h"
 
 namespace cr {
@@ -34,6 +44,8 @@ struct TileTarget {
   const float* opaque_depth = nullptr;   // image depth tested against (Blended)
   const CoverageFn* coverage = nullptr;  // for alpha-mask triangles (Visibility, Depth)
   const FragmentFn* fragment = nullptr;  // Blended
+  SamplePattern pattern;                 // Visibility: samples per pixel (else 1)
+  MixedSamples* mixed = nullptr;         // Visibility with several samples: this tile's mixed pixels
 };
 
 void raster_tile(int tile, const TileGrid& grid, std::span<const GeometryChunk> chunks, const TileTarget& target,

@@ -31,7 +31,7 @@ void check_coverage(std::span<const RasterDraw> draws, const CoverageFn& coverag
 }  // namespace
 
 void TiledRasterizer::build(JobSystem& jobs, GeometrySet set, std::span<const RasterDraw> draws, const TileGrid& grid,
-                            CullMode cull) {
+                            CullMode cull, int32_t sample_margin) {
   Geometry& g = geometry_[set];
   g.vertex_begin.assign(1, 0);
   g.triangle_begin.assign(1, 0);
@@ -50,6 +50,7 @@ void TiledRasterizer::build(JobSystem& jobs, GeometrySet set, std::span<const Ra
   params.height = grid.height;
   params.band = GuardBand::for_image(grid.width, grid.height, kGuardBandPixels);
   params.cull = cull;
+  params.sample_margin = sample_margin;
 
   g.vertices.resize(vertex_count);
   jobs.parallel_for("vertex", vertex_count, kVertexGrain, [&](size_t begin, size_t end) {
@@ -99,7 +100,8 @@ void TiledRasterizer::build(JobSystem& jobs, GeometrySet set, std::span<const Ra
   }
 }
 
-void TiledRasterizer::raster(JobSystem& jobs, GeometrySet set, const TileGrid& grid, const TileTarget& target) {
+void TiledRasterizer::raster(JobSystem& jobs, GeometrySet set, const TileGrid& grid, const TileTarget& target,
+                             std::span<MixedSamples> mixed) {
   Geometry& g = geometry_[set];
   RasterStats& s = g.stats;
   s.tiles_x = grid.tiles_x;
@@ -107,7 +109,11 @@ void TiledRasterizer::raster(JobSystem& jobs, GeometrySet set, const TileGrid& g
   s.tiles.assign(size_t(grid.tile_count()), TileStats{});
   const std::span<const GeometryChunk> chunks(g.chunks.data(), g.chunk_count);
   jobs.parallel_for("raster", size_t(grid.tile_count()), 1, [&](size_t begin, size_t end) {
-    for (size_t t = begin; t < end; ++t) raster_tile(int(t), grid, chunks, target, s.tiles[t]);
+    for (size_t t = begin; t < end; ++t) {
+      TileTarget tile_target = target;
+      if (!mixed.empty()) tile_target.mixed = &mixed[t];
+      raster_tile(int(t), grid, chunks, tile_target, s.tiles[t]);
+    }
   });
   for (const TileStats& t : s.tiles) {
     s.pixels_covered += t.pixels_covered;
@@ -116,37 +122,46 @@ void TiledRasterizer::raster(JobSystem& jobs, GeometrySet set, const TileGrid& g
 }
 
 const RasterStats& TiledRasterizer::render_visibility(JobSystem& jobs, int width, int height, int tile_size,
-                                                      std::span<const RasterDraw> draws, const CoverageFn& coverage) {
+                                                      std::span<const RasterDraw> draws, const CoverageFn& coverage,
+                                                      int samples) {
   check_image_size(width, height);
   check_coverage(draws, coverage);
   const TileGrid grid = TileGrid::make(width, height, tile_size);
   visibility_grid_ = TileGrid{};  // invalid until the pass completes
   visibility_.width = width;
   visibility_.height = height;
+  visibility_.pattern = sample_pattern(samples);
+  visibility_.grid = grid;
   visibility_.depth.resize(size_t(width) * height);
   visibility_.triangle.resize(size_t(width) * height);
-  build(jobs, kOpaque, draws, grid, CullMode::Back);
+  visibility_.mixed.resize(samples > 1 ? size_t(grid.tile_count()) : 0);
+  build(jobs, kOpaque, draws, grid, CullMode::Back, visibility_.pattern.margin_subpixels());
   TileTarget target;
   target.mode = TileMode::Visibility;
   target.stride = width;
   target.depth = visibility_.depth.data();
   target.ids = visibility_.triangle.data();
   target.coverage = &coverage;
-  raster(jobs, kOpaque, grid, target);
+  target.pattern = visibility_.pattern;
+  raster(jobs, kOpaque, grid, target, visibility_.mixed);
   visibility_grid_ = grid;
   return geometry_[kOpaque].stats;
 }
 
 const RasterStats& TiledRasterizer::render_blended(JobSystem& jobs, std::span<const RasterDraw> back_to_front,
-                                                   const FragmentFn& fragment) {
+                                                   const FragmentFn& fragment, std::span<const float> opaque_depth) {
   if (visibility_grid_.tile_count() == 0)
     throw Error("rasterizer: render_blended needs the depth of a completed render_visibility");
   if (!fragment) throw Error("rasterizer: render_blended needs a fragment function");
+  const size_t pixels = visibility_.depth.size();
+  if (!opaque_depth.empty() && opaque_depth.size() != pixels)
+    throw Error("rasterizer: render_blended's opaque depth has " + std::to_string(opaque_depth.size()) +
+                " values for " + std::to_string(pixels) + " pixels");
   build(jobs, kBlended, back_to_front, visibility_grid_, CullMode::Back);
   TileTarget target;
   target.mode = TileMode::Blended;
   target.stride = visibility_.width;
-  target.opaque_depth = visibility_.depth.data();
+  target.opaque_depth = opaque_depth.empty() ? visibility_.depth.data() : opaque_depth.data();
   target.fragment = &fragment;
   raster(jobs, kBlended, visibility_grid_, target);
   return geometry_[kBlended].stats;
@@ -167,6 +182,26 @@ const RasterStats& TiledRasterizer::render_depth(JobSystem& jobs, int size, int 
   target.coverage = &coverage;
   raster(jobs, kDepth, grid, target);
   return geometry_[kDepth].stats;
+}
+
+ptrdiff_t VisibilityBuffer::mixed_slot(int x, int y, const MixedSamples*& tile) const {
+  if (mixed.empty()) return -1;
+  tile = &mixed[size_t((y >> grid.tile_shift) * grid.tiles_x + (x >> grid.tile_shift))];
+  const uint32_t pixel = uint32_t(index(x, y));
+  const auto it = std::lower_bound(tile->pixels.begin(), tile->pixels.end(), pixel);
+  return it != tile->pixels.end() && *it == pixel ? it - tile->pixels.begin() : -1;
+}
+
+uint32_t VisibilityBuffer::sample_triangle(int x, int y, int s) const {
+  const MixedSamples* tile = nullptr;
+  const ptrdiff_t k = mixed_slot(x, y, tile);
+  return k < 0 ? triangle[index(x, y)] : tile->triangle[size_t(k) * size_t(pattern.count) + size_t(s)];
+}
+
+float VisibilityBuffer::sample_depth(int x, int y, int s) const {
+  const MixedSamples* tile = nullptr;
+  const ptrdiff_t k = mixed_slot(x, y, tile);
+  return k < 0 ? depth[index(x, y)] : tile->depth[size_t(k) * size_t(pattern.count) + size_t(s)];
 }
 
 const TriangleInterp& TiledRasterizer::interp(uint32_t triangle_id) const {

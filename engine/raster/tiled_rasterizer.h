@@ -27,6 +27,7 @@
 #include "engine/core/job_system.h"
 #include "engine/raster/barycentrics.h"
 #include "engine/raster/raster_types.h"
+#include "engine/raster/sample_pattern.h"
 #include "engine/raster/tile_binner.h"
 #include "engine/raster/tile_raster.h"
 #include "engine/raster/triangle_interp.h"
@@ -34,13 +35,26 @@
 namespace cr {
 
 // Per pixel: nearest opaque or alpha-masked surface. Row-major, y down.
+// With several samples per pixel, a pixel whose samples all see one triangle
+// holds it and their mean depth; the others (edges) are listed per tile in
+// `mixed` with every sample, and hold their first sample.
 struct VisibilityBuffer {
   int width = 0;
   int height = 0;
+  SamplePattern pattern;           // sample positions (1: the pixel centre)
+  TileGrid grid;                   // the tiles `mixed` is listed by
   std::vector<float> depth;        // reversed-Z NDC depth; 0 = nothing drawn
   std::vector<uint32_t> triangle;  // triangle id; kNoTriangle = nothing drawn
+  std::vector<MixedSamples> mixed;  // per tile (row-major tiles); empty with one sample
 
   size_t index(int x, int y) const { return size_t(y) * width + x; }
+  // Sample s of pixel (x, y): its triangle id and depth.
+  uint32_t sample_triangle(int x, int y, int s) const;
+  float sample_depth(int x, int y, int s) const;
+
+ private:
+  // Position of pixel (x, y) in its tile's mixed list, or -1.
+  ptrdiff_t mixed_slot(int x, int y, const MixedSamples*& tile) const;
 };
 
 class TiledRasterizer {
@@ -48,20 +62,24 @@ class TiledRasterizer {
   // Input triangles per setup chunk (a power of two; part of the id encoding).
   static constexpr uint32_t kSetupChunk = 1024;
 
-  // Opaque and alpha-mask draws into the visibility buffer (cleared first).
+  // Opaque and alpha-mask draws into the visibility buffer (cleared first),
+  // at `samples` (1, 2, 4, 8) samples per pixel (sample_pattern.h).
   // Back faces of single-sided draws are culled. `coverage` is required when
-  // a draw has alpha_mask; it may be called concurrently for different pixels.
+  // a draw has alpha_mask; it may be called concurrently for different
+  // pixels, at each sample's position.
   const RasterStats& render_visibility(JobSystem& jobs, int width, int height, int tile_size,
-                                       std::span<const RasterDraw> draws, const CoverageFn& coverage = {});
+                                       std::span<const RasterDraw> draws, const CoverageFn& coverage = {},
+                                       int samples = 1);
   const VisibilityBuffer& visibility() const { return visibility_; }
 
-  // Blended draws, given back to front (see blend_order.h), tested against the
-  // visibility depth of the last render_visibility (not written). `fragment`
-  // is called for each sample that passes, per pixel in primitive order;
-  // concurrently for different tiles, so it must only touch pixel (x, y).
+  // Blended draws, given back to front (see blend_order.h), one sample per
+  // pixel (its centre), tested against `opaque_depth` (one value per pixel;
+  // empty: the first sample of the last render_visibility), not written.
+  // `fragment` is called for each sample that passes, per pixel in primitive
+  // order; concurrently for different tiles, so it must only touch pixel (x, y).
   // alpha_mask is ignored here: blending uses the alpha itself.
   const RasterStats& render_blended(JobSystem& jobs, std::span<const RasterDraw> back_to_front,
-                                    const FragmentFn& fragment);
+                                    const FragmentFn& fragment, std::span<const float> opaque_depth = {});
 
   // Depth only into `depth` (resized to size * size, row-major, 0 = empty),
   // for shadow maps with an orthographic matrix (clip z in [0, 1], 1 nearest).
@@ -91,8 +109,9 @@ class TiledRasterizer {
   enum GeometrySet : uint32_t { kOpaque = 0, kBlended = 1, kDepth = 2, kSetCount = 3 };
 
   void build(JobSystem& jobs, GeometrySet set, std::span<const RasterDraw> draws, const TileGrid& grid,
-             CullMode cull);
-  void raster(JobSystem& jobs, GeometrySet set, const TileGrid& grid, const TileTarget& target);
+             CullMode cull, int32_t sample_margin = 0);
+  void raster(JobSystem& jobs, GeometrySet set, const TileGrid& grid, const TileTarget& target,
+              std::span<MixedSamples> mixed = {});
 
   Geometry geometry_[kSetCount];
   TileGrid visibility_grid_;

@@ -29,6 +29,7 @@ void snap(const glm::dvec4& q, const SetupParams& p, int32_t& x, int32_t& y, dou
 int32_t first_pixel(int32_t lo) { return (lo + (kSubpixelScale / 2 - 1)) >> kSubpixelBits; }
 int32_t last_pixel(int32_t hi) { return (hi - kSubpixelScale / 2) >> kSubpixelBits; }
 
+// Pixels with a sample within [lo, hi] (samples up to p.sample_margin from the centre).
 PixelRect pixel_bounds(const int32_t* xs, const int32_t* ys, int n, const SetupParams& p) {
   int32_t xmin = xs[0], xmax = xs[0], ymin = ys[0], ymax = ys[0];
   for (int i = 1; i < n; ++i) {
@@ -37,13 +38,14 @@ PixelRect pixel_bounds(const int32_t* xs, const int32_t* ys, int n, const SetupP
     ymin = std::min(ymin, ys[i]);
     ymax = std::max(ymax, ys[i]);
   }
-  return intersect({first_pixel(xmin), first_pixel(ymin), last_pixel(xmax), last_pixel(ymax)},
+  const int32_t m = p.sample_margin;
+  return intersect({first_pixel(xmin - m), first_pixel(ymin - m), last_pixel(xmax + m), last_pixel(ymax + m)},
                    {0, 0, p.width - 1, p.height - 1});
 }
 
 // Edge from (xi, yi) to (xj, yj) of a triangle with positive area in pixel
 // (y-down) coordinates, so the interior is where the edge function is positive.
-void set_edge(ScreenTriangle& t, int e, int32_t xi, int32_t yi, int32_t xj, int32_t yj) {
+void set_edge(ScreenTriangle& t, int e, int32_t xi, int32_t yi, int32_t xj, int32_t yj, int32_t margin) {
   const int32_t a = yi - yj, b = xj - xi;
   // E(X, Y) = a X + b Y + c at subpixel position (X, Y).
   const int64_t c = -(int64_t(a) * xi + int64_t(b) * yi);
@@ -58,6 +60,8 @@ void set_edge(ScreenTriangle& t, int e, int32_t xi, int32_t yi, int32_t xj, int3
   t.a[e] = a;
   t.b[e] = b;
   t.c[e] = k >> kSubpixelBits;  // arithmetic shift: floor division
+  t.c_num[e] = k;
+  t.c_any[e] = (k + (int64_t(a < 0 ? -a : a) + (b < 0 ? -b : b)) * margin) >> kSubpixelBits;
 }
 
 }  // namespace
@@ -200,9 +204,9 @@ void setup_triangle(const ProjectedVertex& pv0, const ProjectedVertex& pv1, cons
     const PixelRect r = count == 3 ? poly_bounds : pixel_bounds(x, y, 3, params);
     if (r.empty()) continue;
     ScreenTriangle& t = out.triangles.emplace_back();
-    set_edge(t, 0, x[0], y[0], x[1], y[1]);
-    set_edge(t, 1, x[1], y[1], x[2], y[2]);
-    set_edge(t, 2, x[2], y[2], x[0], y[0]);
+    set_edge(t, 0, x[0], y[0], x[1], y[1], params.sample_margin);
+    set_edge(t, 1, x[1], y[1], x[2], y[2], params.sample_margin);
+    set_edge(t, 2, x[2], y[2], x[0], y[0], params.sample_margin);
     t.z0 = float(z0);
     t.zx = float(zx);
     t.zy = float(zy);

@@ -37,6 +37,12 @@ struct ScreenTriangle {
   int32_t a[3];
   int32_t b[3];
   int64_t c[3];
+  // Multisampling: 256 c plus the remainder, so that a sample offset
+  // (dx, dy) subpixels from the centre has c = (c_num + a dx + b dy) >> 8
+  // (exact); c_any is the largest such c over the offsets within the
+  // setup's sample margin (conservative, for bounds and binning).
+  int64_t c_num[3];
+  int64_t c_any[3];
   // NDC depth at pixel (x, y): z0 + (zx * (x - ref_x) + zy * (y - ref_y)),
   // clamped to [z_min, z_max], the range over the piece's vertices.
   float z0, zx, zy;
@@ -53,13 +59,13 @@ struct ScreenTriangle {
 // 64 pixels: |a|, |b| <= 2^14, so |edge value| <= 2^14 * 72 px * 2 < 2^22 over a small triangle's box.
 inline constexpr int32_t kSmallExtent = 64 * kSubpixelScale;
 
-// Largest edge value of edge e over the pixel centres of r (non-empty).
+// Largest edge value of edge e over the samples of the pixels of r (non-empty).
 inline int64_t edge_max(const ScreenTriangle& t, int e, const PixelRect& r) {
   const int64_t a = t.a[e], b = t.b[e];
-  return t.c[e] + a * (a > 0 ? r.x1 : r.x0) + b * (b > 0 ? r.y1 : r.y0);
+  return t.c_any[e] + a * (a > 0 ? r.x1 : r.x0) + b * (b > 0 ? r.y1 : r.y0);
 }
 
-// False when some edge excludes all of r: the triangle does not touch r.
+// False when some edge excludes all samples of r: the triangle does not touch r.
 inline bool may_cover(const ScreenTriangle& t, const PixelRect& r) {
   return edge_max(t, 0, r) >= 0 && edge_max(t, 1, r) >= 0 && edge_max(t, 2, r) >= 0;
 }
@@ -74,6 +80,9 @@ struct SetupParams {
   int height = 0;
   GuardBand band;
   CullMode cull = CullMode::Back;
+  // Largest sample offset from the pixel centre (subpixels, either axis):
+  // bounds cover every pixel one of whose samples the triangle may cover.
+  int32_t sample_margin = 0;
 };
 
 // A vertex after the vertex stage. Snapping is done once per vertex, so

@@ -5,6 +5,7 @@
 // engine knows no plugin by name; the CLI registers them in a PluginRegistry.
 #include <functional>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -76,6 +77,13 @@ class Plugin {
     (void)ctx; (void)x0; (void)y0; (void)x1; (void)y1;
   }
   virtual bool has_composite() const { return false; }
+  // The same composite for edge-pixel fragments (FrameBuffers::fragments):
+  // each at its own screen position and distance, in place; called from
+  // parallel jobs on disjoint ranges. A plugin with a composite must give
+  // fragments what it gives pixels.
+  virtual void composite_fragments(const FrameContext& ctx, std::span<EdgeFragment> fragments) {
+    (void)ctx; (void)fragments;
+  }
   // Adds the plugin's per-frame figures (e.g. LUT bake times) to the report.
   virtual void report_frame(nlohmann::json& frame) { (void)frame; }
 };

@@ -10,7 +10,9 @@
 #include "engine/raster/tiled_rasterizer.h"
 #include "engine/render/composite_strips.h"
 #include "engine/render/display_transform.h"
+#include "engine/render/edge_fragments.h"
 #include "engine/render/frame_view.h"
+#include "engine/render/view_distance.h"
 #include "engine/shading/material_batch.h"
 #include "engine/shading/material_eval.h"
 #include "engine/shading/sh_lighting.h"
@@ -99,6 +101,10 @@ struct Renderer::Geometry {
   std::vector<RasterDraw> opaque, blended, casters;
   RasterStats stats;
   uint64_t pixels_shaded = 0;
+  // Multisampling: per-pixel ids (edge_pixel_id at edge pixels) and the tiles'
+  // the edge fragments are gathered from.
+  std::vector<uint32_t> pixel_ids;
+  FragmentRows fragment_rows;
   bool shadow_reused = false;  // the shadow projection did not move: last map kept
 };
 
@@ -118,6 +124,14 @@ Renderer::Renderer(const Scene& scene, const SceneDescription& description, cons
 }
 
 Renderer::~Renderer() = default;
+
+std::vector<int32_t> Renderer::pixel_draws() const {
+  const VisibilityBuffer& v = geometry_->view.visibility();
+  std::vector<int32_t> draws(v.triangle.size(), -1);
+  for (size_t i = 0; i < draws.size(); ++i)
+    if (v.triangle[i] != kNoTriangle) draws[i] = int32_t(geometry_->view.ref(v.triangle[i]).draw_index);
+  return draws;
+}
 
 FrameView Renderer::frame_view(int frame) const {
   return make_frame_view(scene_, description_, frame, profile_.width, profile_.height);
@@ -220,39 +234,16 @@ const FrameRecord& Renderer::render_frame(int frame) {
 
   graph.add_pass("geometry", [](FrameGraph::Builder& b) { b.write("visibility").write("depth"); },
                  [this, &geo, &cam, w, h, tile] {
-    geo.stats = geo.view.render_visibility(jobs_, w, h, tile, geo.opaque, alpha_coverage(scene_, geo.view));
-    // Depth and distance along the ray, from the reversed-Z depth alone
-    // (view depth = znear / z), so passes that only need depth (fog) can run
-    // before shading.
-    // The ray through pixel (x, y) is forward + sx * right + sy * up, so
-    // distance = view depth * sqrt(1 + sx^2 + sy^2): sx per column, sy per row.
-    const std::vector<float>& depth = geo.view.visibility().depth;
-    const float t = std::tan(0.5f * cam.vfov_rad);
-    std::vector<float> sx2(static_cast<size_t>(w));
-    for (int x = 0; x < w; ++x) {
-      const float sx = (2.0f * (float(x) + 0.5f) / float(w) - 1.0f) * t * cam.aspect;
-      sx2[size_t(x)] = 1.0f + sx * sx;
+    geo.stats = geo.view.render_visibility(jobs_, w, h, tile, geo.opaque, alpha_coverage(scene_, geo.view),
+                                           profile_.msaa_samples);
+    if (profile_.msaa_samples == 1) {
+      buffers_.depth = geo.view.visibility().depth;
+      buffers_.fragments.clear();
+    } else {
+      classify_samples(geo.view, cam, jobs_, geo.pixel_ids, buffers_.depth, buffers_.fragments,
+                       geo.fragment_rows);
     }
-    jobs_.parallel_for("depth", size_t(h), 8, [&](size_t y0, size_t y1) {
-      for (size_t y = y0; y < y1; ++y) {
-        const float sy = (1.0f - 2.0f * (float(y) + 0.5f) / float(h)) * t;
-        const float sy2 = sy * sy;
-        const size_t row = y * size_t(w);
-        std::copy(depth.begin() + ptrdiff_t(row), depth.begin() + ptrdiff_t(row) + w, buffers_.depth.begin() + ptrdiff_t(row));
-        if (cam.orthographic) {  // parallel rays: the distance is the view depth
-          for (int x = 0; x < w; ++x) {
-            const float d = depth[row + size_t(x)];
-            buffers_.distance[row + size_t(x)] = d > 0.0f ? cam.view_depth(d) : std::numeric_limits<float>::infinity();
-          }
-          continue;
-        }
-        for (int x = 0; x < w; ++x) {
-          const float d = depth[row + size_t(x)];
-          const float distance = cam.znear / d * std::sqrt(sx2[size_t(x)] + sy2);
-          buffers_.distance[row + size_t(x)] = d > 0.0f ? distance : std::numeric_limits<float>::infinity();
-        }
-      }
-    });
+    view_distances(cam, w, h, buffers_.depth, buffers_.distance, jobs_);
   });
 
   // Plugins declare their passes after the engine's inputs exist, so their
@@ -278,16 +269,12 @@ const FrameRecord& Renderer::render_frame(int frame) {
     return TriangleSurface(prim, d, r.triangle_index, r.front_facing, needs_tangent(*material),
                            any_uv1 && needs_uv1(*material));
   };
-  auto shade_fragment = [&triangle_of, &shader](uint32_t id, const Barycentrics& bary) {
-    const Material* m = nullptr;
-    return shader->shade(*m, triangle_of(id, m).at(bary));
-  };
 
   graph.add_pass("shade", [](FrameGraph::Builder& b) {
     b.read("visibility").read("shadow_map").read("light_environment").write("hdr_color");
   }, [this, &geo, &triangle_of, &shader, &shading, w, h] {
     shader.emplace(shading);
-    const std::vector<uint32_t>& ids = geo.view.visibility().triangle;
+    const std::vector<uint32_t>& ids = profile_.msaa_samples == 1 ? geo.view.visibility().triangle : geo.pixel_ids;
     // Without a sky plugin the background is the ambient radiance: a flat sky.
     const glm::vec3 background = description_.ambient;
     std::vector<uint64_t> shaded_rows(size_t(h), 0);
@@ -316,7 +303,7 @@ const FrameRecord& Renderer::render_frame(int frame) {
         uint64_t n = 0;
         for (int x = 0; x < w;) {
           const size_t i = y * size_t(w) + size_t(x);
-          if (ids[i] == kNoTriangle) {
+          if (ids[i] == kNoTriangle || is_edge_pixel(ids[i])) {  // edge pixels: their fragments, below
             buffers_.color[i] = background;
             ++x;
             continue;
@@ -343,6 +330,55 @@ const FrameRecord& Renderer::render_frame(int frame) {
       }
       if (surfaces.count > 0) flush();
     });
+    // Edge pixels' fragments, each at its samples' centroid (inside its
+    // triangle: no extrapolated attributes), in batches.
+    std::vector<EdgeFragment>& fragments = buffers_.fragments;
+    const std::vector<size_t> chunks = fragment_chunks(fragments, 256);
+    jobs_.parallel_for("shade fragments", chunks.size() - 1, 1, [&](size_t c0, size_t c1) {
+      SurfaceBatch surfaces;
+      const Material* materials[SurfaceBatch::kCapacity];
+      ShadingBatch batch;
+      size_t where[SurfaceBatch::kCapacity];
+      float px[SurfaceBatch::kCapacity], py[SurfaceBatch::kCapacity];
+      auto flush = [&] {
+        surfaces.finish();
+        evaluate_materials(scene_, surfaces, materials, shading.emissive_luminance, batch);
+        shader->shade_batch(batch);
+        for (int k = 0; k < batch.count; ++k) fragments[where[k]].color = batch.radiance(k);
+        surfaces.clear();
+        batch.clear();
+      };
+      uint32_t current_id = kNoTriangle;
+      std::optional<TriangleSurface> triangle;
+      const TriangleInterp* interp = nullptr;
+      const Material* material = nullptr;
+      // Runs of fragments on one triangle (along an edge), as far as the batch has room.
+      for (size_t f = chunks[c0]; f < chunks[c1];) {
+        const uint32_t id = fragments[f].triangle;
+        if (id == kNoTriangle) {
+          fragments[f++].color = background;
+          continue;
+        }
+        if (id != current_id) {
+          triangle.emplace(triangle_of(id, material));
+          interp = &geo.view.interp(id);
+          current_id = id;
+        }
+        const int room = SurfaceBatch::kCapacity - surfaces.count;
+        int span = 0;
+        for (; span < room && f + size_t(span) < chunks[c1] && fragments[f + size_t(span)].triangle == id; ++span) {
+          const size_t k = f + size_t(span);
+          where[surfaces.count + span] = k;
+          materials[surfaces.count + span] = material;
+          px[span] = fragments[k].x;
+          py[span] = fragments[k].y;
+        }
+        triangle->add_points(surfaces, *interp, px, py, span);
+        if (surfaces.full()) flush();
+        f += size_t(span);
+      }
+      if (surfaces.count > 0) flush();
+    });
     uint64_t total = 0;
     for (uint64_t n : shaded_rows) total += n;  // fixed-order reduction
     geo.pixels_shaded = total;
@@ -350,13 +386,25 @@ const FrameRecord& Renderer::render_frame(int frame) {
 
   if (!geo.blended.empty())
     graph.add_pass("transparent", [](FrameGraph::Builder& b) { b.read("hdr_color").write("hdr_color"); },
-                 [this, &geo, &shade_fragment, &shader, &shading, w] {
+                 [this, &geo, &triangle_of, &shader, &shading, &cam, w] {
     shader.emplace(shading);
-    geo.view.render_blended(jobs_, geo.blended, [&](int x, int y, uint32_t id, const Barycentrics& bary) {
-      const glm::vec4 c = shade_fragment(id, bary);
-      glm::vec3& dst = buffers_.color[size_t(y) * size_t(w) + size_t(x)];
-      dst = dst * (1.0f - c.a) + glm::vec3(c) * c.a;
-    });
+    std::vector<EdgeFragment>& fragments = buffers_.fragments;
+    auto blend = [](glm::vec3& dst, const glm::vec4& c) { dst = dst * (1.0f - c.a) + glm::vec3(c) * c.a; };
+    const FragmentFn fragment = [&](int x, int y, uint32_t id, const Barycentrics& bary) {
+      const Material* m = nullptr;
+      const SurfaceSample surface = triangle_of(id, m).at(bary);
+      const glm::vec4 c = shader->shade(*m, surface);
+      const size_t pixel = size_t(y) * size_t(w) + size_t(x);
+      blend(buffers_.color[pixel], c);
+      if (fragments.empty() || !is_edge_pixel(geo.pixel_ids[pixel])) return;
+      // An edge pixel: the surface, seen at the pixel centre, covers the
+      // fragments behind it.
+      const float d = float(glm::length(glm::dvec3(surface.position) - cam.position));
+      for (size_t f = first_fragment(geo.pixel_ids[pixel]); f < fragments.size() && fragments[f].pixel == pixel; ++f)
+        if (fragments[f].distance > d) blend(fragments[f].color, c);
+    };
+    geo.view.render_blended(jobs_, geo.blended, fragment,
+                            profile_.msaa_samples == 1 ? std::span<const float>() : std::span<const float>(buffers_.depth));
   });
 
   std::vector<Plugin*> compositors;
@@ -374,11 +422,18 @@ const FrameRecord& Renderer::render_frame(int frame) {
       for_each_composite_strip(jobs_, "composite", w, h, [&](int x0, int y0, int x1, int y1) {
         for (Plugin* p : compositors) p->composite(ctx, x0, y0, x1, y1);
       });
+      std::vector<EdgeFragment>& fragments = buffers_.fragments;
+      const size_t grain = 512, n = (fragments.size() + grain - 1) / grain;
+      jobs_.parallel_for("composite fragments", n, 1, [&](size_t c0, size_t c1) {
+        const size_t f0 = c0 * grain, f1 = std::min(c1 * grain, fragments.size());
+        for (Plugin* p : compositors) p->composite_fragments(ctx, std::span<EdgeFragment>(&fragments[f0], f1 - f0));
+      });
     });
 
   graph.add_pass("resolve", [](FrameGraph::Builder& b) { b.read("hdr_color").write("frame"); }, [this, w, h] {
     if (!display_ || display_->ev100() != description_.exposure_ev100)
       display_ = std::make_unique<DisplayTransform>(description_.exposure_ev100);
+    resolve_fragments(buffers_.fragments, buffers_.color, jobs_);
     jobs_.parallel_for("resolve", size_t(h), 16, [&](size_t y0, size_t y1) {
       display_->resolve(&buffers_.color[y0 * size_t(w)], (y1 - y0) * size_t(w), &buffers_.display[y0 * size_t(w) * 3]);
     });
@@ -400,10 +455,13 @@ const FrameRecord& Renderer::render_frame(int frame) {
   record_.culled = graph.culled_pass_names();
   record_.jobs = jobs_.take_records();
   const RasterStats& st = geo.stats;
+  uint64_t mixed_pixels = 0;  // pixels whose samples see more than one triangle
+  for (const MixedSamples& m : geo.view.visibility().mixed) mixed_pixels += m.pixels.size();
   record_.raster = {{"triangles_in", st.triangles_in},       {"triangles_culled", st.triangles_culled},
                     {"triangles_clipped", st.triangles_clipped}, {"triangles_visible", st.triangles_visible},
                     {"tile_triangle_pairs", st.tile_triangle_pairs}, {"pixels_covered", st.pixels_covered},
-                    {"pixels_shaded", geo.pixels_shaded},    {"draws_in_view", geo.opaque.size() + geo.blended.size()},
+                    {"pixels_shaded", geo.pixels_shaded},
+                    {"msaa_mixed_pixels", mixed_pixels}, {"edge_fragments", buffers_.fragments.size()},    {"draws_in_view", geo.opaque.size() + geo.blended.size()},
                     {"shadow_casters", geo.casters.size()}, {"shadow_map_reused", geo.shadow_reused}};
   for (auto& p : plugins_) p->report_frame(record_.plugins[p->name()]);
   return record_;

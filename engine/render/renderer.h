@@ -53,6 +53,9 @@ class Renderer {
   void play_animation(std::function<void(int frame)> pose) { pose_ = std::move(pose); }
 
   const FrameBuffers& buffers() const { return buffers_; }
+  // The draw (index into Scene::draws) the last frame's pixels see at their
+  // first sample; -1 where nothing was drawn (for tools that find edges).
+  std::vector<int32_t> pixel_draws() const;
   const ShadowMap& shadow_map() const { return shadow_; }
   // Last frame's map where this frame's is a new render, else size 0.
   const ShadowMap& previous_shadow_map() const { return previous_shadow_; }

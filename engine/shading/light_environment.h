@@ -1,12 +1,16 @@
 #pragma once
-// The light a frame's surfaces receive: the sun and an ambient (sky) term.
+// The light a frame's surfaces receive: the sun and an ambient (sky) term,
+// optionally with a prefiltered environment for glossy reflections.
 // The engine fills it from the scene file; a plugin (the atmosphere) may
 // overwrite it in a pass that writes the "light_environment" resource.
 #include <array>
 #include <cstddef>
 #include <functional>
+#include <memory>
 
 #include <glm/glm.hpp>
+
+#include "engine/shading/specular_environment.h"
 
 namespace cr {
 
@@ -21,6 +25,11 @@ struct LightEnvironment {
   // Incoming ambient radiance as real SH L2 coefficients (cd/m^2):
   // L(w) = sum_i ambient_sh[i] * Y_i(w), order Y00, Y1-1, Y10, Y11, Y2-2, Y2-1, Y20, Y21, Y22.
   std::array<glm::vec3, 9> ambient_sh{};
+  // Optional prefiltered environment for the specular ambient (glossy
+  // reflections). Null: the specular ambient is ambient_sh's radiance in the
+  // mirror direction, so the scene's ambient lights both lobes. Shared: the
+  // plugin that publishes it may build the next one while frames shade.
+  std::shared_ptr<const SpecularEnvironment> specular;
 };
 
 // The sun's illuminance at one world point: sun_at when set, else sun_illuminance.

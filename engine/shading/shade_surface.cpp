@@ -6,6 +6,7 @@
 #include "engine/shading/environment_brdf.h"
 #include "engine/shading/material_eval.h"
 #include "engine/shading/safe_normalize.h"
+#include "engine/shading/specular_occlusion.h"
 
 namespace cr {
 namespace {
@@ -92,19 +93,62 @@ void view_and_normals(ShadingBatch& s, glm::dvec3 camera,
   }
 }
 
+// The specular ambient's incoming radiance without an environment: the SH
+// radiance in the mirror direction, clamped at 0.
+void sh_specular_radiance(const ShadingBatch& s, const ShCoefficients& radiance, const float* vx, const float* vy,
+                          const float* vz, float* out_r, float* out_g, float* out_b) {
+  for (int i = 0; i < s.count; ++i) {
+    const float nx = s.nx[i], ny = s.ny[i], nz = s.nz[i];
+    const float two_ndv = 2.0f * (nx * vx[i] + ny * vy[i] + nz * vz[i]);
+    float r, g, b;
+    sh_sum(radiance, two_ndv * nx - vx[i], two_ndv * ny - vy[i], two_ndv * nz - vz[i], r, g, b);
+    out_r[i] = std::max(r, 0.0f);
+    out_g[i] = std::max(g, 0.0f);
+    out_b[i] = std::max(b, 0.0f);
+  }
+}
+
+// The specular ambient's incoming radiance from the prefiltered environment
+// at the lobe's roughness, along the mirror direction bent towards the normal
+// by alpha (Filament's dominant direction: the GGX lobe of a rough surface
+// leans towards n, which the prefilter's n = v = R assumption loses).
+void environment_specular_radiance(const ShadingBatch& s, const SpecularEnvironment& env, const float* vx,
+                                   const float* vy, const float* vz, float* out_r, float* out_g, float* out_b) {
+  constexpr int kN = ShadingBatch::kCapacity;
+  float dx[kN], dy[kN], dz[kN], roughness[kN];
+  for (int i = 0; i < s.count; ++i) {
+    const float nx = s.nx[i], ny = s.ny[i], nz = s.nz[i];
+    const float two_ndv = 2.0f * (nx * vx[i] + ny * vy[i] + nz * vz[i]);
+    const float rx = two_ndv * nx - vx[i], ry = two_ndv * ny - vy[i], rz = two_ndv * nz - vz[i];
+    const float r = clamp_nan_safe(s.roughness[i], kMinRoughness, 1.0f);
+    const float alpha = r * r;
+    dx[i] = rx + (nx - rx) * alpha;
+    dy[i] = ry + (ny - ry) * alpha;
+    dz[i] = rz + (nz - rz) * alpha;
+    roughness[i] = r;
+  }
+  env.sample_batch(size_t(s.count), dx, dy, dz, roughness, out_r, out_g, out_b);
+}
+
 struct LightingConstants {
   glm::vec3 l;
-  const ShCoefficients* radiance;
   const ShCoefficients* irradiance;
+  const DfgTable* dfg;
 };
 
-// The sun through the BRDF plus the SH ambient and emission, per lane.
-void light_points(ShadingBatch& s, const LightingConstants& c,
-                                                                     const float* vx, const float* vy,
-                                                                     const float* vz, const float* n_dot_l,
-                                                                     const float* sun_r, const float* sun_g,
-                                                                     const float* sun_b) {
+// The sun through the BRDF plus the ambient and emission, per lane; spec_*
+// hold the specular ambient's incoming radiance.
+void light_points(ShadingBatch& s, const LightingConstants& c, const float* vx, const float* vy, const float* vz,
+                  const float* n_dot_l, const float* sun_r, const float* sun_g, const float* sun_b,
+                  const float* spec_r, const float* spec_g, const float* spec_b) {
   const glm::vec3 l = c.l;
+  constexpr int kN = ShadingBatch::kCapacity;
+  float rough[kN], ndv_c[kN], env_a[kN], env_b[kN];
+  for (int i = 0; i < s.count; ++i) {
+    rough[i] = clamp_nan_safe(s.roughness[i], kMinRoughness, 1.0f);
+    ndv_c[i] = std::max(s.nx[i] * vx[i] + s.ny[i] * vy[i] + s.nz[i] * vz[i], kMinNdotV);
+  }
+  c.dfg->lookup_batch(size_t(s.count), rough, ndv_c, env_a, env_b);
   for (int i = 0; i < s.count; ++i) {
     const float nx = s.nx[i], ny = s.ny[i], nz = s.nz[i];
     const float ndl = n_dot_l[i];
@@ -121,17 +165,17 @@ void light_points(ShadingBatch& s, const LightingConstants& c,
     float g = s.emissive_g[i] + reflected(sun, bg, f0g) * sun_g[i];
     float b = s.emissive_b[i] + reflected(sun, bb, f0b) * sun_b[i];
 
-    // Ambient: SH irradiance (diffuse) and SH radiance in the mirror direction.
-    const EnvironmentBrdf env = environment_brdf(std::max(s.roughness[i], kMinRoughness), std::max(ndv, kMinNdotV));
-    float er, eg, eb, lr, lg, lb;
+    // Ambient: SH irradiance (diffuse) under the AO, the specular radiance
+    // through the split-sum albedo under the specular occlusion.
+    const float ea = env_a[i], eb_ = env_b[i];
+    float er, eg, eb;
     sh_sum(*c.irradiance, nx, ny, nz, er, eg, eb);
-    const float two_ndv = 2.0f * ndv;
-    sh_sum(*c.radiance, two_ndv * nx - vx[i], two_ndv * ny - vy[i], two_ndv * nz - vz[i], lr, lg, lb);
-    const float diffuse = (1.0f - metallic) * (1.0f - (kDielectricF0 * env.a + env.b)) / kPi;
+    const float diffuse = (1.0f - metallic) * (1.0f - (kDielectricF0 * ea + eb_)) / kPi;
     const float ao = s.occlusion[i];
-    r += (std::max(er, 0.0f) * diffuse * br + std::max(lr, 0.0f) * (f0r * env.a + env.b)) * ao;
-    g += (std::max(eg, 0.0f) * diffuse * bg + std::max(lg, 0.0f) * (f0g * env.a + env.b)) * ao;
-    b += (std::max(eb, 0.0f) * diffuse * bb + std::max(lb, 0.0f) * (f0b * env.a + env.b)) * ao;
+    const float so = specular_occlusion(ndv_c[i], ao, rough[i] * rough[i]);
+    r += std::max(er, 0.0f) * diffuse * br * ao + spec_r[i] * (f0r * ea + eb_) * so;
+    g += std::max(eg, 0.0f) * diffuse * bg * ao + spec_g[i] * (f0g * ea + eb_) * so;
+    b += std::max(eb, 0.0f) * diffuse * bb * ao + spec_b[i] * (f0b * ea + eb_) * so;
     s.out_r[i] = finite_or_zero(r);
     s.out_g[i] = finite_or_zero(g);
     s.out_b[i] = finite_or_zero(b);
@@ -147,7 +191,9 @@ SurfaceShader::SurfaceShader(const ShadingInputs& in)
       camera_position_(in.camera_position),
       emissive_luminance_(in.emissive_luminance),
       sun_direction_(normalize_or(in.light->sun_direction, glm::vec3(0.0f, 1.0f, 0.0f))),
-      ambient_(in.light->ambient_sh) {
+      ambient_(in.light->ambient_sh),
+      specular_(in.light->specular.get()),
+      dfg_(&DfgTable::get()) {
   for (const PunctualLight& light : scene_->lights) lights_.push_back(punctual_light_terms(light));
 }
 
@@ -208,9 +254,13 @@ void SurfaceShader::shade_batch(ShadingBatch& batch) const {
     sun_b[i] = e.b;
   }
 
-  const LightingConstants constants{sun_direction_, &ambient_.radiance_coefficients(),
-                                    &ambient_.irradiance_coefficients()};
-  light_points(batch, constants, vx, vy, vz, n_dot_l, sun_r, sun_g, sun_b);
+  float spec_r[kN], spec_g[kN], spec_b[kN];
+  if (specular_)
+    environment_specular_radiance(batch, *specular_, vx, vy, vz, spec_r, spec_g, spec_b);
+  else
+    sh_specular_radiance(batch, ambient_.radiance_coefficients(), vx, vy, vz, spec_r, spec_g, spec_b);
+  const LightingConstants constants{sun_direction_, &ambient_.irradiance_coefficients(), dfg_};
+  light_points(batch, constants, vx, vy, vz, n_dot_l, sun_r, sun_g, sun_b, spec_r, spec_g, spec_b);
   if (!lights_.empty()) add_punctual_lights(batch, lights_.data(), lights_.size(), vx, vy, vz);
   if (batch.any_unlit) unlit_radiance(batch);
 }

@@ -1,13 +1,14 @@
 #pragma once
 // Lighting of one surface point: the sun (with its shadow) and the scene's
-// point and spot lights through the glTF BRDF, ambient sky light from SH,
-// emission. Returns linear radiance (cd/m^2) towards the camera and the
+// point and spot lights through the glTF BRDF, ambient sky light (diffuse
+// from SH, specular from a prefiltered environment or SH), emission. Returns linear radiance (cd/m^2) towards the camera and the
 // opacity used for blending.
 #include <vector>
 
 #include <glm/glm.hpp>
 
 #include "engine/scene/scene.h"
+#include "engine/shading/environment_brdf.h"
 #include "engine/shading/light_environment.h"
 #include "engine/shading/punctual_lights.h"
 #include "engine/shading/sh_lighting.h"
@@ -35,10 +36,17 @@ struct ShadingInputs {
 //            light->sun_at(position) when set, else light->sun_illuminance;
 // lights   = sum over scene->lights of BRDF(n, v, l) * max(n.l, 0) * E, E as
 //            punctual_lights.h says (no shadows);
-// ambient  = occlusion * [ E_sh(n) * (1 - metallic) baseColor/pi * (1 - albedo_spec(0.04))
-//                        + L_sh(reflect(-v, n)) * albedo_spec(f0) ],
-//            albedo_spec = Karis' environment-BRDF fit (environment_brdf.h),
-//            E_sh / L_sh = SH irradiance / radiance, clamped at 0;
+// ambient  = ao * E_sh(n) * (1 - metallic) baseColor/pi * (1 - albedo_spec(0.04))
+//            + so * L_spec * albedo_spec(f0),
+//            ao = the occlusion map, so = specular_occlusion(n.v, ao, alpha)
+//            (specular_occlusion.h), albedo_spec = f0 A + B from the split-sum
+//            DFG table (environment_brdf.h) at (roughness, n.v);
+//            L_spec = light->specular->sample(d, roughness) when an environment
+//            is set, d = mix(R, n, alpha) (R = reflect(-v, n), bent towards n
+//            for rough lobes), else L_sh(R) (the fallback: the SH ambient lights
+//            both lobes); E_sh / L_sh = SH irradiance / radiance, clamped at 0;
+//            roughness perceptual in [kMinRoughness, 1], alpha = roughness^2,
+//            n.v floored at 1e-3;
 // emission = emissive factor * strength * texture * in.emissive_luminance.
 // Unlit materials: baseColor * in.emissive_luminance alone.
 glm::vec4 shade_surface(const ShadingInputs& in, const Material& material, const SurfaceSample& surface);
@@ -68,6 +76,8 @@ class SurfaceShader {
   float emissive_luminance_;
   glm::vec3 sun_direction_;  // unit
   ShLighting ambient_;
+  const SpecularEnvironment* specular_;  // null: SH specular (light_'s, shared)
+  const DfgTable* dfg_;
   std::vector<PunctualLightTerms> lights_;
 };
 

@@ -52,6 +52,9 @@ class TriangleSurface {
   // once the batch is finished point k holds the floats of
   // at(interpolate(interp, float(x0 + k) + 0.5f, float(y) + 0.5f)).
   void add_span(SurfaceBatch& batch, const TriangleInterp& interp, int x0, int count, int y) const;
+  // The same at screen positions (px[k], py[k]) (pixels), k < count.
+  void add_points(SurfaceBatch& batch, const TriangleInterp& interp, const float* px, const float* py,
+                  int count) const;
 
  private:
   glm::vec3 position_[3];

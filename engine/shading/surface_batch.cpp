@@ -76,7 +76,17 @@ namespace {
 }  // namespace
 
 void TriangleSurface::add_span(SurfaceBatch& batch, const TriangleInterp& interp, int x0, int count, int y) const {
-  // Barycentrics and their derivatives per pixel: interpolate() of
+  float px[SurfaceBatch::kCapacity], py[SurfaceBatch::kCapacity];
+  for (int k = 0; k < count; ++k) {
+    px[k] = float(x0 + k) + 0.5f;
+    py[k] = float(y) + 0.5f;
+  }
+  add_points(batch, interp, px, py, count);
+}
+
+void TriangleSurface::add_points(SurfaceBatch& batch, const TriangleInterp& interp, const float* px, const float* py,
+                                 int count) const {
+  // Barycentrics and their derivatives per point: interpolate() of
   // triangle_interp.h, in locals (stores into the batch could otherwise
   // alias the planes, and the loop would not vectorise).
   constexpr int kN = SurfaceBatch::kCapacity;
@@ -85,12 +95,11 @@ void TriangleSurface::add_span(SurfaceBatch& batch, const TriangleInterp& interp
     const float u0[3] = {interp.u0[0], interp.u0[1], interp.u0[2]};
     const float ux[3] = {interp.ux[0], interp.ux[1], interp.ux[2]};
     const float uy[3] = {interp.uy[0], interp.uy[1], interp.uy[2]};
-    const float ref_x = interp.ref_x;
-    const float dy = (float(y) + 0.5f) - interp.ref_y;
+    const float ref_x = interp.ref_x, ref_y = interp.ref_y;
     const float sx = ux[0] + ux[1] + ux[2];
     const float sy = uy[0] + uy[1] + uy[2];
     for (int k = 0; k < count; ++k) {
-      const float dx = (float(x0 + k) + 0.5f) - ref_x;
+      const float dx = px[k] - ref_x, dy = py[k] - ref_y;
       const float a0 = u0[0] + (ux[0] * dx + uy[0] * dy);
       const float a1 = u0[1] + (ux[1] * dx + uy[1] * dy);
       const float a2 = u0[2] + (ux[2] * dx + uy[2] * dy);

@@ -99,3 +99,15 @@ TEST_CASE("profile files: malformed JSON reports the position; bad values name f
     }
   }
 }
+
+TEST_CASE("profile: antialiasing names a sample count; anything else names the choices") {
+  for (const auto& [name, samples] : std::vector<std::pair<std::string, int>>{{"none", 1}, {"msaa2", 2}, {"msaa4", 4}, {"msaa8", 8}})
+    CHECK(cr::parse_profile({{"antialiasing", name}}, "inline.json", kPlugins).msaa_samples == samples);
+  CHECK(cr::parse_profile(nlohmann::json::object(), "inline.json", kPlugins).msaa_samples == 1);
+  for (const char* bad : {"msaa3", "MSAA4", "fxaa", ""}) {
+    const std::string e = parse_error({{"antialiasing", bad}});
+    CHECK(e.find("antialiasing") != std::string::npos);
+    CHECK(e.find("\"msaa8\"") != std::string::npos);
+  }
+  CHECK(parse_error({{"antialiasing", 4}}).find("antialiasing") != std::string::npos);
+}

@@ -114,3 +114,38 @@ TEST_CASE("composite_fog gives lookup_fog's bits for every pixel, per tile and p
   composite_fog(s.grid, s.volume, s.distance, part, w, 5, 3, 70, 20);
   CHECK(bit_mismatches(part, expected(s, 5, 3, 70, 20)) == 0);
 }
+
+TEST_CASE("edge-pixel fragments at pixel centres get composite_fog's bits; elsewhere their own position's lookup") {
+  const CompositeScene s = make_scene();
+  const int w = s.grid.width(), h = s.grid.height();
+  std::vector<glm::vec3> pixels = s.color;
+  composite_fog(s.grid, s.volume, s.distance, pixels, w, 0, 0, w, h);
+  std::vector<EdgeFragment> fragments;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const size_t i = size_t(y) * w + x;
+      EdgeFragment f;
+      f.pixel = uint32_t(i);
+      f.x = float(x) + 0.5f;
+      f.y = float(y) + 0.5f;
+      f.distance = s.distance[i];
+      f.color = s.color[i];
+      fragments.push_back(f);
+    }
+  composite_fog_fragments(s.grid, s.volume, fragments);
+  int bad = 0;
+  for (const EdgeFragment& f : fragments) bad += std::memcmp(&f.color, &pixels[f.pixel], sizeof(glm::vec3)) != 0;
+  CHECK(bad == 0);
+  // Off-centre: the lookup at the fragment's own position, not its pixel's.
+  EdgeFragment f;
+  f.x = 100.3f;
+  f.y = 77.9f;
+  f.distance = 0.5f * (s.grid.near_distance() + s.grid.far_distance());
+  f.color = glm::vec3(1.0f);
+  glm::vec3 l;
+  float t;
+  lookup_fog(s.grid, s.volume, f.x, f.y, f.distance, l, t);
+  composite_fog_fragments(s.grid, s.volume, std::span(&f, 1));
+  CHECK(f.color == glm::vec3(1.0f) * t + l);
+  CHECK(t < 1.0f);
+}

@@ -116,9 +116,10 @@ TEST_CASE("shade: occlusion darkens only the ambient term; emission adds the emi
   const glm::vec4 direct = shade_surface({&scene, &sun_only, nullptr, in.camera_position}, white_dielectric(0.8f), flat_sample());
   CHECK(occluded.r == doctest::Approx(direct.r));
   CHECK(open.r > direct.r + 50.0f);
-  // Half strength: halfway.
+  // Half strength: halfway (the specular occlusion of a rough lobe seen head-on is
+  // ao within 2e-4: specular_occlusion.h).
   m.occlusion.scale = 0.5f;
-  CHECK(shade_surface(in, m, flat_sample()).r == doctest::Approx(0.5f * (open.r + direct.r)));
+  CHECK(shade_surface(in, m, flat_sample()).r == doctest::Approx(0.5f * (open.r + direct.r)).epsilon(1e-4));
 
   LightEnvironment dark;
   Material glow = white_dielectric(1.0f);
