@@ -330,6 +330,22 @@ void raster_triangles(const PixelRect& tile_rect, std::span<const GeometryChunk>
 
 void raster_tile(int tile, const TileGrid& grid, std::span<const GeometryChunk> chunks, const TileTarget& target,
                  TileStats& stats) {
+  // A tile no triangle touches: nothing drawn, without clearing and copying
+  // a tile buffer per sample.
+  bool empty = true;
+  for (const GeometryChunk& chunk : chunks) empty &= chunk.bins.begin[tile] == chunk.bins.begin[tile + 1];
+  if (empty) {
+    stats = {};
+    if (target.mode == TileMode::Blended) return;
+    const PixelRect r = grid.tile_rect(tile);
+    for (int y = r.y0; y <= r.y1; ++y) {
+      const size_t out = size_t(y) * target.stride + size_t(r.x0);
+      std::fill_n(target.depth + out, r.x1 - r.x0 + 1, 0.0f);
+      if (target.mode == TileMode::Visibility) std::fill_n(target.ids + out, r.x1 - r.x0 + 1, kNoTriangle);
+    }
+    if (target.mixed) target.mixed->clear();
+    return;
+  }
   const ScratchLease lease;
   TileScratch& scratch = *lease;
   const PixelRect rect = grid.tile_rect(tile);

@@ -93,6 +93,27 @@ CoverageFn alpha_coverage(const Scene& scene, const TiledRasterizer& raster) {
   };
 }
 
+// Surfaces to shade, interpolated run by run (points on one triangle), then
+// finished batch-wide, their materials evaluated and lit; where[k] names
+// the pixel or fragment entry k belongs to.
+struct ShadeQueue {
+  SurfaceBatch surfaces;
+  const Material* materials[SurfaceBatch::kCapacity];
+  ShadingBatch batch;
+  size_t where[SurfaceBatch::kCapacity];
+
+  // Shades the queue and hands out(where[k], radiance) each point.
+  template <class Out>
+  void flush(const Scene& scene, float emissive_luminance, const SurfaceShader& shader, Out&& out) {
+    surfaces.finish();
+    evaluate_materials(scene, surfaces, materials, emissive_luminance, batch);
+    shader.shade_batch(batch);
+    for (int k = 0; k < batch.count; ++k) out(where[k], batch.radiance(k));
+    surfaces.clear();
+    batch.clear();
+  }
+};
+
 }  // namespace
 
 struct Renderer::Geometry {
@@ -279,20 +300,14 @@ const FrameRecord& Renderer::render_frame(int frame) {
     const glm::vec3 background = description_.ambient;
     std::vector<uint64_t> shaded_rows(size_t(h), 0);
     jobs_.parallel_for("shade", size_t(h), 4, [&](size_t y0, size_t y1) {
-      // Pixels of a row are shaded in batches; `where` maps a batch entry to
-      // its pixel. Surfaces are interpolated run by run (pixels on one
-      // triangle) and finished batch-wide, then their materials evaluated and lit.
-      SurfaceBatch surfaces;
-      const Material* materials[SurfaceBatch::kCapacity];
-      ShadingBatch batch;
-      size_t where[SurfaceBatch::kCapacity];
+      // Pixels of a row are shaded in batches of runs of pixels on one triangle.
+      ShadeQueue q;
+      SurfaceBatch& surfaces = q.surfaces;
+      const Material** materials = q.materials;
+      size_t* where = q.where;
       auto flush = [&] {
-        surfaces.finish();
-        evaluate_materials(scene_, surfaces, materials, shading.emissive_luminance, batch);
-        shader->shade_batch(batch);
-        for (int k = 0; k < batch.count; ++k) buffers_.color[where[k]] = batch.radiance(k);
-        surfaces.clear();
-        batch.clear();
+        q.flush(scene_, shading.emissive_luminance, *shader,
+                [&](size_t pixel, const glm::vec3& c) { buffers_.color[pixel] = c; });
       };
       // Neighbouring pixels mostly see the same triangle: set it up once.
       uint32_t current_id = kNoTriangle;
@@ -335,18 +350,12 @@ const FrameRecord& Renderer::render_frame(int frame) {
     std::vector<EdgeFragment>& fragments = buffers_.fragments;
     const std::vector<size_t> chunks = fragment_chunks(fragments, 256);
     jobs_.parallel_for("shade fragments", chunks.size() - 1, 1, [&](size_t c0, size_t c1) {
-      SurfaceBatch surfaces;
-      const Material* materials[SurfaceBatch::kCapacity];
-      ShadingBatch batch;
-      size_t where[SurfaceBatch::kCapacity];
+      ShadeQueue q;
+      SurfaceBatch& surfaces = q.surfaces;
       float px[SurfaceBatch::kCapacity], py[SurfaceBatch::kCapacity];
       auto flush = [&] {
-        surfaces.finish();
-        evaluate_materials(scene_, surfaces, materials, shading.emissive_luminance, batch);
-        shader->shade_batch(batch);
-        for (int k = 0; k < batch.count; ++k) fragments[where[k]].color = batch.radiance(k);
-        surfaces.clear();
-        batch.clear();
+        q.flush(scene_, shading.emissive_luminance, *shader,
+                [&](size_t f, const glm::vec3& c) { fragments[f].color = c; });
       };
       uint32_t current_id = kNoTriangle;
       std::optional<TriangleSurface> triangle;
@@ -368,8 +377,8 @@ const FrameRecord& Renderer::render_frame(int frame) {
         int span = 0;
         for (; span < room && f + size_t(span) < chunks[c1] && fragments[f + size_t(span)].triangle == id; ++span) {
           const size_t k = f + size_t(span);
-          where[surfaces.count + span] = k;
-          materials[surfaces.count + span] = material;
+          q.where[surfaces.count + span] = k;
+          q.materials[surfaces.count + span] = material;
           px[span] = fragments[k].x;
           py[span] = fragments[k].y;
         }

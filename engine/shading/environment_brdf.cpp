@@ -33,17 +33,55 @@ DfgTable::DfgTable() {
     for (int i = 0; i < kSize; ++i) {
       const EnvironmentBrdf e =
           integrate_environment_brdf(float(j) / float(kSize - 1), float(i) / float(kSize - 1), kSamples);
-      a_[size_t(j * kSize + i)] = e.a;
-      b_[size_t(j * kSize + i)] = e.b;
+      // Node i is cell i's left half and cell i - 1's right half.
+      if (i < kSize - 1) {
+        cells_[size_t(j * kRow + i * 4)] = e.a;
+        cells_[size_t(j * kRow + i * 4 + 1)] = e.b;
+      }
+      if (i > 0) {
+        cells_[size_t(j * kRow + i * 4 - 2)] = e.a;
+        cells_[size_t(j * kRow + i * 4 - 1)] = e.b;
+      }
     }
 }
 
+namespace {
+
+typedef float Float4 __attribute__((vector_size(16)));
+
+inline Float4 load4(const float* p) {
+  Float4 t;
+  __builtin_memcpy(&t, p, sizeof(t));
+  return t;
+}
+
+}  // namespace
+
 void DfgTable::lookup_batch(size_t n, const float* __restrict roughness, const float* __restrict n_dot_v,
                             float* __restrict a, float* __restrict b) const {
-  for (size_t i = 0; i < n; ++i) {
-    const EnvironmentBrdf e = lookup(roughness[i], n_dot_v[i]);
-    a[i] = e.a;
-    b[i] = e.b;
+  constexpr size_t kChunk = 64;
+  int first[kChunk];
+  float wx[kChunk], wy[kChunk];
+  for (size_t start = 0; start < n; start += kChunk) {
+    const size_t m = n - start < kChunk ? n - start : kChunk;
+    for (size_t i = 0; i < m; ++i) {
+      const Cell c = cell(roughness[start + i], n_dot_v[start + i]);
+      first[i] = c.first;
+      wx[i] = c.wx;
+      wy[i] = c.wy;
+    }
+    for (size_t i = 0; i < m; ++i) {
+      // lookup()'s operations, lane for lane: {A, B} of both rows, left and right.
+      const float* r0 = &cells_[size_t(first[i])];
+      const Float4 row0 = load4(r0), row1 = load4(r0 + kRow);
+      const Float4 left = __builtin_shufflevector(row0, row1, 0, 1, 4, 5);
+      const Float4 right = __builtin_shufflevector(row0, row1, 2, 3, 6, 7);
+      const Float4 x = left + (right - left) * wx[i];  // {a0, b0, a1, b1}
+      const Float4 lo = __builtin_shufflevector(x, x, 0, 1, 0, 1), hi = __builtin_shufflevector(x, x, 2, 3, 2, 3);
+      const Float4 y = lo + (hi - lo) * wy[i];
+      a[start + i] = y[0];
+      b[start + i] = y[1];
+    }
   }
 }
 

@@ -8,6 +8,17 @@ namespace {
 
 inline float sign_of(float x) { return x >= 0.0f ? 1.0f : -1.0f; }  // +1 at 0: the fold's own choice
 
+inline void encode(float x, float y, float z, float& u, float& v) {
+  const float s = std::abs(x) + std::abs(y) + std::abs(z);
+  const float inv = s > 0.0f ? 1.0f / s : 0.0f;  // a zero direction reads the +Y pole
+  const float px = x * inv, pz = z * inv;
+  const bool lower = y * inv < 0.0f;
+  const float fx = lower ? (1.0f - std::abs(pz)) * sign_of(px) : px;
+  const float fz = lower ? (1.0f - std::abs(px)) * sign_of(pz) : pz;
+  u = fx * 0.5f + 0.5f;
+  v = fz * 0.5f + 0.5f;
+}
+
 // Four floats in one SSE register: a texel is RGB + pad, so a bilinear fetch
 // is four 16-byte loads and three lerps, not 12 gathers (gathers made the
 // vectorised loop 2x slower on the machines measured; docs/atmosphere.md).
@@ -19,56 +30,52 @@ inline Texel4 load_texel(const float* p) {
   return t;
 }
 
-// Bilinear fetch of one level at unit-square coordinates (u, v), in the
-// padded layout: texel centres at (i + 0.5) / size, the border beyond.
-inline Texel4 fetch_level(const float* rgba, size_t offset, int size, float fsize, float u, float v) {
+// Where one level's bilinear fetch reads, at unit-square coordinates (u, v)
+// in the padded layout (texel centres at (i + 0.5) / size, the border
+// beyond): the first float of its 2x2 taps, the row stride in floats, the weights.
+struct LevelTaps {
+  int first, row;
+  float wx, wy;
+};
+
+inline LevelTaps level_taps(int offset, float fsize, float u, float v) {
   float px = u * fsize + 0.5f, py = v * fsize + 0.5f;  // padded texel coordinates
   const float hi = fsize + 0.5f;
   px = px > 0.5f ? (px < hi ? px : hi) : 0.5f;  // NaN -> 0.5
   py = py > 0.5f ? (py < hi ? py : hi) : 0.5f;
   const int ix = int(px), iy = int(py);  // in [0, size]
-  const float wx = px - float(ix), wy = py - float(iy);
-  const size_t stride = size_t(size + 2) * 4;
-  const float* t00 = rgba + (offset + size_t(iy) * size_t(size + 2) + size_t(ix)) * 4;
-  const Texel4 a = load_texel(t00), b = load_texel(t00 + 4);
-  const Texel4 c = load_texel(t00 + stride), d = load_texel(t00 + stride + 4);
-  const Texel4 top = a + (b - a) * wx, bottom = c + (d - c) * wx;
-  return top + (bottom - top) * wy;
+  const int row = int(fsize) + 2;
+  return {(offset + iy * row + ix) * 4, row * 4, px - float(ix), py - float(iy)};
 }
 
-// The whole lookup for one direction and fractional level.
-inline void fetch(const float* rgba, const size_t* offsets, const int* sizes, const float* fsizes, int levels, float x,
-                  float y, float z, float level, float& r, float& g, float& b) {
-  const float s = std::abs(x) + std::abs(y) + std::abs(z);
-  const float inv = s > 0.0f ? 1.0f / s : 0.0f;  // a zero direction reads the +Y pole
-  const float px = x * inv, pz = z * inv;
-  const bool lower = y * inv < 0.0f;
-  const float fx = lower ? (1.0f - std::abs(pz)) * sign_of(px) : px;
-  const float fz = lower ? (1.0f - std::abs(px)) * sign_of(pz) : pz;
-  const float u = fx * 0.5f + 0.5f, v = fz * 0.5f + 0.5f;
+// The two levels around fractional level l (clamped to [0, levels - 1]) and the weight between them.
+inline void level_pair(int levels, float level, int& k0, int& k1, float& w) {
   const float top = float(levels - 1);
   const float l = level > 0.0f ? (level < top ? level : top) : 0.0f;  // NaN -> 0
-  const int k0 = int(l);
-  const int k1 = k0 + 1 < levels ? k0 + 1 : k0;
-  const float w = l - float(k0);
-  const Texel4 t0 = fetch_level(rgba, offsets[k0], sizes[k0], fsizes[k0], u, v);
-  const Texel4 t1 = fetch_level(rgba, offsets[k1], sizes[k1], fsizes[k1], u, v);
-  const Texel4 t = t0 + (t1 - t0) * w;
-  r = t[0];
-  g = t[1];
-  b = t[2];
+  k0 = int(l);
+  k1 = k0 + 1 < levels ? k0 + 1 : k0;
+  w = l - float(k0);
+}
+
+inline Texel4 bilinear(const float* rgba, const LevelTaps& t) {
+  const float* t00 = rgba + t.first;
+  const Texel4 a = load_texel(t00), b = load_texel(t00 + 4);
+  const Texel4 c = load_texel(t00 + t.row), d = load_texel(t00 + t.row + 4);
+  const Texel4 top = a + (b - a) * t.wx, bottom = c + (d - c) * t.wx;
+  return top + (bottom - top) * t.wy;
+}
+
+inline Texel4 trilinear(const float* rgba, const LevelTaps& t0, const LevelTaps& t1, float w) {
+  const Texel4 a = bilinear(rgba, t0), b = bilinear(rgba, t1);
+  return a + (b - a) * w;
 }
 
 }  // namespace
 
 glm::vec2 octahedral_encode(const glm::vec3& d) {
-  const float s = std::abs(d.x) + std::abs(d.y) + std::abs(d.z);
-  const float inv = s > 0.0f ? 1.0f / s : 0.0f;
-  const float px = d.x * inv, pz = d.z * inv;
-  const bool lower = d.y * inv < 0.0f;
-  const float fx = lower ? (1.0f - std::abs(pz)) * sign_of(px) : px;
-  const float fz = lower ? (1.0f - std::abs(px)) * sign_of(pz) : pz;
-  return {fx * 0.5f + 0.5f, fz * 0.5f + 0.5f};
+  glm::vec2 uv;
+  encode(d.x, d.y, d.z, uv.x, uv.y);
+  return uv;
 }
 
 glm::vec3 octahedral_decode(glm::vec2 uv) {
@@ -82,7 +89,7 @@ glm::vec3 octahedral_decode(glm::vec2 uv) {
 SpecularEnvironment::SpecularEnvironment(std::vector<int> sizes) : sizes_(std::move(sizes)) {
   size_t total = 0;
   for (int s : sizes_) {
-    offsets_.push_back(total);
+    offsets_.push_back(int(total));
     fsizes_.push_back(float(s));
     total += size_t(s + 2) * size_t(s + 2);
   }
@@ -126,10 +133,14 @@ void SpecularEnvironment::fill_border(int level) {
 }
 
 glm::vec3 SpecularEnvironment::sample_level(const glm::vec3& dir, float level) const {
-  glm::vec3 out;
-  fetch(rgba_.data(), offsets_.data(), sizes_.data(), fsizes_.data(), levels(), dir.x, dir.y, dir.z, level, out.r,
-        out.g, out.b);
-  return out;
+  float u, v, w;
+  int k0, k1;
+  encode(dir.x, dir.y, dir.z, u, v);
+  level_pair(levels(), level, k0, k1, w);
+  const LevelTaps t0 = level_taps(offsets_[size_t(k0)], fsizes_[size_t(k0)], u, v);
+  const LevelTaps t1 = level_taps(offsets_[size_t(k1)], fsizes_[size_t(k1)], u, v);
+  const Texel4 t = trilinear(rgba_.data(), t0, t1, w);
+  return {t[0], t[1], t[2]};
 }
 
 glm::vec3 SpecularEnvironment::sample(const glm::vec3& dir, float roughness) const {
@@ -138,16 +149,58 @@ glm::vec3 SpecularEnvironment::sample(const glm::vec3& dir, float roughness) con
   return out;
 }
 
+// sample_level's steps over many points, in loops that vectorise (16 lanes
+// at AVX-512) up to the taps' 16-byte loads: per chunk, the coordinates and
+// level pairs; each level's size and offset set where it is used (GCC 12
+// vectorises no gather from these tables: "no vectype" once the index's range
+// is known); the taps and weights; then the loads, point by point.
 void SpecularEnvironment::sample_batch(size_t n, const float* dx, const float* dy, const float* dz,
                                        const float* roughness, float* r, float* g, float* b) const {
   const float* rgba = rgba_.data();
-  const size_t* offsets = offsets_.data();
-  const int* sizes = sizes_.data();
-  const float* fsizes = fsizes_.data();
   const int levels = this->levels();
   const float top = float(levels - 1);
-  for (size_t i = 0; i < n; ++i)
-    fetch(rgba, offsets, sizes, fsizes, levels, dx[i], dy[i], dz[i], roughness[i] * top, r[i], g[i], b[i]);
+  constexpr size_t kChunk = 64;
+  float u[kChunk], v[kChunk], w[kChunk], fsize0[kChunk], fsize1[kChunk];
+  int k0[kChunk], k1[kChunk], offset0[kChunk], offset1[kChunk];
+  int first0[kChunk], row0[kChunk], first1[kChunk], row1[kChunk];  // LevelTaps as arrays: stored 16 lanes at once
+  float wx0[kChunk], wy0[kChunk], wx1[kChunk], wy1[kChunk];
+  for (size_t start = 0; start < n; start += kChunk) {
+    const size_t m = n - start < kChunk ? n - start : kChunk;
+    const float *x = dx + start, *y = dy + start, *z = dz + start, *rough = roughness + start;
+    for (size_t i = 0; i < m; ++i) {
+      encode(x[i], y[i], z[i], u[i], v[i]);
+      level_pair(levels, rough[i] * top, k0[i], k1[i], w[i]);
+    }
+    for (int k = 0; k < levels; ++k) {
+      const int offset = offsets_[size_t(k)];
+      const float fsize = fsizes_[size_t(k)];
+      for (size_t i = 0; i < m; ++i) {
+        offset0[i] = k0[i] == k ? offset : offset0[i];
+        fsize0[i] = k0[i] == k ? fsize : fsize0[i];
+        offset1[i] = k1[i] == k ? offset : offset1[i];
+        fsize1[i] = k1[i] == k ? fsize : fsize1[i];
+      }
+    }
+    for (size_t i = 0; i < m; ++i) {
+      const LevelTaps t0 = level_taps(offset0[i], fsize0[i], u[i], v[i]);
+      const LevelTaps t1 = level_taps(offset1[i], fsize1[i], u[i], v[i]);
+      first0[i] = t0.first;
+      row0[i] = t0.row;
+      wx0[i] = t0.wx;
+      wy0[i] = t0.wy;
+      first1[i] = t1.first;
+      row1[i] = t1.row;
+      wx1[i] = t1.wx;
+      wy1[i] = t1.wy;
+    }
+    for (size_t i = 0; i < m; ++i) {
+      const Texel4 t =
+          trilinear(rgba, {first0[i], row0[i], wx0[i], wy0[i]}, {first1[i], row1[i], wx1[i], wy1[i]}, w[i]);
+      r[start + i] = t[0];
+      g[start + i] = t[1];
+      b[start + i] = t[2];
+    }
+  }
 }
 
 }  // namespace cr

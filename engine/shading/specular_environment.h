@@ -53,11 +53,11 @@ class SpecularEnvironment {
 
  private:
   size_t padded_index(int level, int px, int py) const {  // border-inclusive coordinates in [0, size + 1]
-    return offsets_[size_t(level)] + size_t(py) * size_t(sizes_[size_t(level)] + 2) + size_t(px);
+    return size_t(offsets_[size_t(level)]) + size_t(py) * size_t(sizes_[size_t(level)] + 2) + size_t(px);
   }
   std::vector<int> sizes_;
   std::vector<float> fsizes_;
-  std::vector<size_t> offsets_;  // first padded texel of each level
+  std::vector<int> offsets_;     // first padded texel of each level (int: the vectorised lookup's indices)
   std::vector<float> rgba_;      // padded texels, RGB + pad (one 16-byte load each)
 };
 

@@ -297,10 +297,41 @@ TEST_CASE("specular environment: bit-identical for 1 and 3 threads and for any s
     dz[i] = std::sin(float(i) * 2.3f) * 0.5f;
     rough[i] = float(i % 11) / 10.0f;
   }
+  // Out of range, NaN and zero inputs too: clamped the same way on both paths.
+  rough[3] = -0.5f;
+  rough[4] = 1.5f;
+  rough[5] = std::nanf("");
+  dx[6] = dy[6] = dz[6] = 0.0f;
+  dx[7] = dz[7] = 0.0f;
+  dy[7] = -1.0f;
   a->sample_batch(kN, dx, dy, dz, rough, r, g, bl);
   for (size_t i = 0; i < kN; ++i) {
-    const glm::vec3 s = a->sample(glm::vec3(dx[i], dy[i], dz[i]), rough[i]);
-    CHECK(s == glm::vec3(r[i], g[i], bl[i]));
+    CAPTURE(i);
+    const glm::vec3 d(dx[i], dy[i], dz[i]);
+    CHECK(a->sample(d, rough[i]) == glm::vec3(r[i], g[i], bl[i]));
+    // The batch's vectorised steps and sample_level's scalar ones: the same floats.
+    CHECK(a->sample_level(d, rough[i] * float(a->levels() - 1)) == glm::vec3(r[i], g[i], bl[i]));
+  }
+}
+
+TEST_CASE("DFG table: lookup_batch = lookup bit for bit, across chunks and at the edges") {
+  const DfgTable& t = DfgTable::get();
+  constexpr size_t kN = 150;  // more than one of lookup_batch's chunks
+  float rough[kN], nv[kN], a[kN], b[kN];
+  for (size_t i = 0; i < kN; ++i) {
+    rough[i] = std::fmod(float(i) * 0.137f, 1.1f) - 0.05f;
+    nv[i] = std::fmod(float(i) * 0.291f, 1.2f) - 0.1f;
+  }
+  rough[0] = nv[1] = 1.0f;
+  rough[2] = nv[2] = 0.0f;
+  rough[3] = std::nanf("");
+  nv[4] = std::nanf("");
+  t.lookup_batch(kN, rough, nv, a, b);
+  for (size_t i = 0; i < kN; ++i) {
+    CAPTURE(i);
+    const EnvironmentBrdf e = t.lookup(rough[i], nv[i]);
+    CHECK(e.a == a[i]);
+    CHECK(e.b == b[i]);
   }
 }
 
