@@ -49,13 +49,19 @@ void classify_samples(const TiledRasterizer& raster, const Camera& cam, JobSyste
   const bool merge = !cam.orthographic;
   const SamplePattern& pattern = vis.pattern;
   const int n = pattern.count;
-  ids = vis.triangle;
-  depth = vis.depth;
+  ids.resize(vis.triangle.size());
+  depth.resize(vis.depth.size());
   rows.resize(vis.mixed.size());
   const float inv_n = 1.0f / float(n);
   jobs.parallel_for("samples", vis.mixed.size(), 1, [&](size_t t0, size_t t1) {
     InterpCache interp(raster);
     for (size_t tile = t0; tile < t1; ++tile) {
+      const PixelRect r = vis.grid.tile_rect(int(tile));
+      for (int y = r.y0; y <= r.y1; ++y) {
+        const size_t row = size_t(y) * size_t(w) + size_t(r.x0), len = size_t(r.x1 - r.x0 + 1);
+        std::copy_n(vis.triangle.begin() + ptrdiff_t(row), len, ids.begin() + ptrdiff_t(row));
+        std::copy_n(vis.depth.begin() + ptrdiff_t(row), len, depth.begin() + ptrdiff_t(row));
+      }
       const MixedSamples& mixed = vis.mixed[tile];
       std::vector<EdgeFragment>& out = rows[tile];
       out.clear();

@@ -357,34 +357,38 @@ const FrameRecord& Renderer::render_frame(int frame) {
         q.flush(scene_, shading.emissive_luminance, *shader,
                 [&](size_t f, const glm::vec3& c) { fragments[f].color = c; });
       };
-      uint32_t current_id = kNoTriangle;
+      // A pixel's fragments lie on different triangles, its neighbours' on
+      // the same ones: visiting the chunk's fragments by triangle gives runs
+      // that share one triangle set-up. (Each point's shading is its own:
+      // the order changes no result.)
+      std::vector<std::pair<uint32_t, uint32_t>> order;  // (triangle, fragment)
+      for (size_t f = chunks[c0]; f < chunks[c1]; ++f) {
+        if (fragments[f].triangle == kNoTriangle)
+          fragments[f].color = background;
+        else
+          order.emplace_back(fragments[f].triangle, uint32_t(f));
+      }
+      std::sort(order.begin(), order.end());
       std::optional<TriangleSurface> triangle;
-      const TriangleInterp* interp = nullptr;
       const Material* material = nullptr;
-      // Runs of fragments on one triangle (along an edge), as far as the batch has room.
-      for (size_t f = chunks[c0]; f < chunks[c1];) {
-        const uint32_t id = fragments[f].triangle;
-        if (id == kNoTriangle) {
-          fragments[f++].color = background;
-          continue;
+      for (size_t o = 0; o < order.size();) {
+        const uint32_t id = order[o].first;
+        triangle.emplace(triangle_of(id, material));
+        const TriangleInterp& interp = geo.view.interp(id);
+        while (o < order.size() && order[o].first == id) {
+          const int room = SurfaceBatch::kCapacity - surfaces.count;
+          int span = 0;
+          for (; span < room && o + size_t(span) < order.size() && order[o + size_t(span)].first == id; ++span) {
+            const size_t k = order[o + size_t(span)].second;
+            q.where[surfaces.count + span] = k;
+            q.materials[surfaces.count + span] = material;
+            px[span] = fragments[k].x;
+            py[span] = fragments[k].y;
+          }
+          triangle->add_points(surfaces, interp, px, py, span);
+          if (surfaces.full()) flush();
+          o += size_t(span);
         }
-        if (id != current_id) {
-          triangle.emplace(triangle_of(id, material));
-          interp = &geo.view.interp(id);
-          current_id = id;
-        }
-        const int room = SurfaceBatch::kCapacity - surfaces.count;
-        int span = 0;
-        for (; span < room && f + size_t(span) < chunks[c1] && fragments[f + size_t(span)].triangle == id; ++span) {
-          const size_t k = f + size_t(span);
-          q.where[surfaces.count + span] = k;
-          q.materials[surfaces.count + span] = material;
-          px[span] = fragments[k].x;
-          py[span] = fragments[k].y;
-        }
-        triangle->add_points(surfaces, *interp, px, py, span);
-        if (surfaces.full()) flush();
-        f += size_t(span);
       }
       if (surfaces.count > 0) flush();
     });
