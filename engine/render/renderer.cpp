@@ -122,8 +122,8 @@ struct Renderer::Geometry {
   std::vector<RasterDraw> opaque, blended, casters;
   RasterStats stats;
   uint64_t pixels_shaded = 0;
-  // Multisampling: per-pixel ids (edge_pixel_id at edge pixels) and the tiles'
-  // the edge fragments are gathered from.
+  // Multisampling: per-pixel ids (edge_pixel_id at edge pixels) and the
+  // per-tile lists the edge fragments are gathered from.
   std::vector<uint32_t> pixel_ids;
   FragmentRows fragment_rows;
   bool shadow_reused = false;  // the shadow projection did not move: last map kept

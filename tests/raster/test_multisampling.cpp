@@ -91,11 +91,13 @@ TEST_CASE("multisampling: a sample is covered exactly when its position lies ins
   }
 }
 
-TEST_CASE("multisampling: an axis-aligned half-plane's coverage is its area within half a sample") {
+TEST_CASE("multisampling: an axis-aligned half-plane's coverage is its area within half a sample, a quarter on average") {
   // The patterns have one sample per 1/N column and row, so a vertical or
-  // horizontal edge at any sub-pixel position covers N * area +- 1/2 samples.
+  // horizontal edge at any sub-pixel position covers N * area +- 1/2 samples,
+  // and over the edge's positions the error averages 1/4 sample.
   JobSystem jobs(1);
   for (int samples : {2, 4, 8}) {
+    double edge_error[2] = {0.0, 0.0};
     for (int k = 0; k < 32; ++k) {
       const double e = 10.0 + (k + 0.5) / 32.0;  // never on a sample (multiples of 1/16 from the centre)
       for (bool vertical : {true, false}) {
@@ -115,8 +117,12 @@ TEST_CASE("multisampling: an axis-aligned half-plane's coverage is its area with
             CAPTURE(vertical);
             CHECK(std::abs(n[size_t(y) * W + x] - samples * area) <= 0.5);
           }
+        edge_error[vertical] += std::abs(n[vertical ? 10 : 10 * W] - samples * (e - 10.0)) / 32.0;
       }
     }
+    CAPTURE(samples);
+    CHECK(edge_error[0] <= 0.25 + 1e-9);
+    CHECK(edge_error[1] <= 0.25 + 1e-9);
   }
 }
 
