@@ -49,8 +49,11 @@ struct TriangleRef {
 
 // Alpha-mask coverage: called only where the depth test passes; true keeps the pixel.
 using CoverageFn = std::function<bool(uint32_t triangle_id, const Barycentrics&)>;
-// Blended fragment that passed the opaque depth test, delivered per pixel in primitive order.
-using FragmentFn = std::function<void(int x, int y, uint32_t triangle_id, const Barycentrics&)>;
+// Blended fragment that passed the opaque depth test, delivered per pixel in
+// primitive order; coverage: the share of the pixel's samples it covers (1
+// with one sample per pixel).
+using FragmentFn =
+    std::function<void(int x, int y, uint32_t triangle_id, const Barycentrics&, float coverage)>;
 
 // Multisampling: the pixels of one tile whose samples do not all see the
 // same triangle, in row-major order, with every sample's id and depth

@@ -28,6 +28,7 @@ constexpr auto kBitCount = [] {
 struct TileScratch {
   std::vector<float> depth;
   std::vector<uint32_t> ids;
+  std::vector<uint8_t> covered;  // multisampled blending: the current triangle's samples per pixel
 };
 
 // Per-thread tile buffers, reused across tiles and frames. A stack, because a
@@ -59,6 +60,10 @@ struct TileContext {
   const TileTarget* target;
   TileStats* stats;
   float sample_dx = 0.0f, sample_dy = 0.0f;  // the sample's offset from the pixel centre (alpha-mask coverage)
+  // Multisampled blending: samples that pass set bit `sample_bit` here
+  // (tile-local, as depth) instead of calling the fragment function.
+  uint8_t* covered = nullptr;
+  uint8_t sample_bit = 0;
 };
 
 int mask_of(__m128i lo, __m128i hi) {
@@ -133,9 +138,14 @@ struct TriangleWalk {
     const float py = float(y) + 0.5f + ctx.sample_dy;
     if constexpr (Mode == TileMode::Blended) {
       passed += kBitCount[pass];
+      if (ctx.covered) {
+        uint8_t* row = ctx.covered + size_t(y - ctx.y0) * ctx.stride + (x - ctx.x0);
+        for (int bits = pass; bits; bits &= bits - 1) row[std::countr_zero(unsigned(bits))] |= ctx.sample_bit;
+        return;
+      }
       for (int bits = pass; bits; bits &= bits - 1) {
         const int px = x + std::countr_zero(unsigned(bits));
-        (*ctx.target->fragment)(px, y, t.id, interpolate(interp, float(px) + 0.5f, py));
+        (*ctx.target->fragment)(px, y, t.id, interpolate(interp, float(px) + 0.5f, py), 1.0f);
       }
     } else {
       if (t.alpha_mask) {
@@ -295,6 +305,32 @@ void resolve_samples(const TileScratch& scratch, size_t layer, int stride, const
   }
 }
 
+// Multisampled blending: the triangle's fragments, one per pixel that some
+// sample of it passed, in row-major order, at the centroid of those samples
+// with their share as coverage; the pixels' sample bits are cleared again.
+void deliver_coverage(const ScreenTriangle& t, const TriangleInterp& interp, const PixelRect& r,
+                      const TileContext& ctx) {
+  const SamplePattern& pattern = ctx.target->pattern;
+  for (int y = r.y0; y <= r.y1; ++y) {
+    uint8_t* row = ctx.covered + size_t(y - ctx.y0) * ctx.stride;
+    for (int x = r.x0; x <= r.x1; ++x) {
+      const unsigned bits = row[x - ctx.x0];
+      if (!bits) continue;
+      row[x - ctx.x0] = 0;
+      float dx = 0.0f, dy = 0.0f;
+      for (int s = 0; s < pattern.count; ++s)
+        if (bits & (1u << s)) {
+          dx += pattern.dx(s);
+          dy += pattern.dy(s);
+        }
+      const float n = float(std::popcount(bits));
+      (*ctx.target->fragment)(x, y, t.id,
+                              interpolate(interp, float(x) + 0.5f + dx / n, float(y) + 0.5f + dy / n),
+                              n / float(pattern.count));
+    }
+  }
+}
+
 template <TileMode Mode>
 void raster_triangles(const PixelRect& tile_rect, std::span<const GeometryChunk> chunks, int tile,
                       const TileContext& ctx, size_t layer) {
@@ -315,13 +351,18 @@ void raster_triangles(const PixelRect& tile_rect, std::span<const GeometryChunk>
       for (int s = 0; s < pattern.count; ++s) {
         const ScreenTriangle ts = at_sample(t, pattern, s);
         TileContext sample_ctx = ctx;
-        sample_ctx.depth += size_t(s) * layer;
-        sample_ctx.ids += size_t(s) * layer;
+        if constexpr (Mode == TileMode::Blended) {
+          sample_ctx.sample_bit = uint8_t(1u << s);  // one opaque depth per pixel: no layer
+        } else {
+          sample_ctx.depth += size_t(s) * layer;
+          sample_ctx.ids += size_t(s) * layer;
+        }
         sample_ctx.sample_dx = pattern.dx(s);
         sample_ctx.sample_dy = pattern.dy(s);
         TriangleWalk w(ts, setup.interps[t.interp], sample_ctx);
         walk<Mode>(w, r);
       }
+      if constexpr (Mode == TileMode::Blended) deliver_coverage(t, setup.interps[t.interp], r, ctx);
     }
   }
 }
@@ -358,6 +399,8 @@ void raster_tile(int tile, const TileGrid& grid, std::span<const GeometryChunk> 
     scratch.depth.resize(size);
     scratch.ids.resize(size);
   }
+  if (target.mode == TileMode::Blended && target.pattern.count > 1 && scratch.covered.size() < layer)
+    scratch.covered.assign(layer, 0);  // every walk leaves it cleared
   if (target.mode == TileMode::Blended) {
     for (int y = 0; y < h; ++y)
       std::memcpy(&scratch.depth[size_t(y) * stride],
@@ -368,7 +411,8 @@ void raster_tile(int tile, const TileGrid& grid, std::span<const GeometryChunk> 
   }
 
   stats = {};
-  const TileContext ctx{scratch.depth.data(), scratch.ids.data(), stride, rect.x0, rect.y0, &target, &stats};
+  TileContext ctx{scratch.depth.data(), scratch.ids.data(), stride, rect.x0, rect.y0, &target, &stats};
+  if (target.mode == TileMode::Blended && target.pattern.count > 1) ctx.covered = scratch.covered.data();
   switch (target.mode) {
     case TileMode::Visibility: raster_triangles<TileMode::Visibility>(rect, chunks, tile, ctx, layer); break;
     case TileMode::Depth: raster_triangles<TileMode::Depth>(rect, chunks, tile, ctx, layer); break;

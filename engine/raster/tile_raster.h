@@ -21,6 +21,9 @@
 // cache the tile is resolved: a pixel whose samples all see one triangle
 // gets its id and its samples' mean depth in the image, any other is listed
 // with all its samples (MixedSamples) and gets its first sample's.
+// Multisampled blending tests each sample against the pixel's one opaque
+// depth and delivers one fragment per pixel and triangle, at the centroid of
+// the samples that passed, their share as coverage.
 #include <cstdint>
 #include <span>
 
@@ -44,7 +47,7 @@ struct TileTarget {
   const float* opaque_depth = nullptr;   // image depth tested against (Blended)
   const CoverageFn* coverage = nullptr;  // for alpha-mask triangles (Visibility, Depth)
   const FragmentFn* fragment = nullptr;  // Blended
-  SamplePattern pattern;                 // Visibility: samples per pixel (else 1)
+  SamplePattern pattern;                 // Visibility, Blended: samples per pixel (else 1)
   MixedSamples* mixed = nullptr;         // Visibility with several samples: this tile's mixed pixels
 };
 

@@ -157,9 +157,10 @@ const RasterStats& TiledRasterizer::render_blended(JobSystem& jobs, std::span<co
   if (!opaque_depth.empty() && opaque_depth.size() != pixels)
     throw Error("rasterizer: render_blended's opaque depth has " + std::to_string(opaque_depth.size()) +
                 " values for " + std::to_string(pixels) + " pixels");
-  build(jobs, kBlended, back_to_front, visibility_grid_, CullMode::Back);
+  build(jobs, kBlended, back_to_front, visibility_grid_, CullMode::Back, visibility_.pattern.margin_subpixels());
   TileTarget target;
   target.mode = TileMode::Blended;
+  target.pattern = visibility_.pattern;
   target.stride = visibility_.width;
   target.opaque_depth = opaque_depth.empty() ? visibility_.depth.data() : opaque_depth.data();
   target.fragment = &fragment;

@@ -72,11 +72,12 @@ class TiledRasterizer {
                                        int samples = 1);
   const VisibilityBuffer& visibility() const { return visibility_; }
 
-  // Blended draws, given back to front (see blend_order.h), one sample per
-  // pixel (its centre), tested against `opaque_depth` (one value per pixel;
-  // empty: the first sample of the last render_visibility), not written.
-  // `fragment` is called for each sample that passes, per pixel in primitive
-  // order; concurrently for different tiles, so it must only touch pixel (x, y).
+  // Blended draws, given back to front (see blend_order.h), at the samples of
+  // the last render_visibility, tested against `opaque_depth` (one value per
+  // pixel; empty: the last render_visibility's), not written. `fragment` is
+  // called once per pixel and triangle some sample of it passes, in primitive
+  // order per pixel, with the share of samples it covers; concurrently for
+  // different tiles, so it must only touch pixel (x, y).
   // alpha_mask is ignored here: blending uses the alpha itself.
   const RasterStats& render_blended(JobSystem& jobs, std::span<const RasterDraw> back_to_front,
                                     const FragmentFn& fragment, std::span<const float> opaque_depth = {});

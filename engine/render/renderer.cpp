@@ -402,19 +402,23 @@ const FrameRecord& Renderer::render_frame(int frame) {
                  [this, &geo, &triangle_of, &shader, &shading, &cam, w] {
     shader.emplace(shading);
     std::vector<EdgeFragment>& fragments = buffers_.fragments;
-    auto blend = [](glm::vec3& dst, const glm::vec4& c) { dst = dst * (1.0f - c.a) + glm::vec3(c) * c.a; };
-    const FragmentFn fragment = [&](int x, int y, uint32_t id, const Barycentrics& bary) {
+    // Over a share `coverage` of the pixel the surface blends with its alpha:
+    // on the pixel's box that is alpha * coverage over all of it.
+    auto blend = [](glm::vec3& dst, const glm::vec3& c, float a) { dst = dst * (1.0f - a) + c * a; };
+    const FragmentFn fragment = [&](int x, int y, uint32_t id, const Barycentrics& bary, float coverage) {
       const Material* m = nullptr;
       const SurfaceSample surface = triangle_of(id, m).at(bary);
-      const glm::vec4 c = shader->shade(*m, surface);
+      const glm::vec4 shaded = shader->shade(*m, surface);
+      const glm::vec3 c(shaded);
+      const float a = shaded.a * coverage;
       const size_t pixel = size_t(y) * size_t(w) + size_t(x);
-      blend(buffers_.color[pixel], c);
+      blend(buffers_.color[pixel], c, a);
       if (fragments.empty() || !is_edge_pixel(geo.pixel_ids[pixel])) return;
-      // An edge pixel: the surface, seen at the pixel centre, covers the
-      // fragments behind it.
+      // An edge pixel: the surface, seen at its samples' centroid, covers the
+      // fragments behind it (its coverage spread evenly over them).
       const float d = float(glm::length(glm::dvec3(surface.position) - cam.position));
       for (size_t f = first_fragment(geo.pixel_ids[pixel]); f < fragments.size() && fragments[f].pixel == pixel; ++f)
-        if (fragments[f].distance > d) blend(fragments[f].color, c);
+        if (fragments[f].distance > d) blend(fragments[f].color, c, a);
     };
     geo.view.render_blended(jobs_, geo.blended, fragment,
                             profile_.msaa_samples == 1 ? std::span<const float>() : std::span<const float>(buffers_.depth));

@@ -89,7 +89,7 @@ inline std::vector<int> count_hits(JobSystem& jobs, int width, int height, int t
   TiledRasterizer r;
   r.render_visibility(jobs, width, height, tile_size, {});
   std::vector<int> hits(size_t(width) * height, 0);
-  r.render_blended(jobs, draws, [&](int x, int y, uint32_t, const Barycentrics&) { ++hits[size_t(y) * width + x]; });
+  r.render_blended(jobs, draws, [&](int x, int y, uint32_t, const Barycentrics&, float) { ++hits[size_t(y) * width + x]; });
   return hits;
 }
 

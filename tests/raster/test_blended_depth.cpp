@@ -29,7 +29,7 @@ TEST_CASE("blended fragments arrive per pixel in the given order and only in fro
     r.render_visibility(jobs, W, H, 16, {&opaque_draw, 1});
     std::vector<std::vector<uint32_t>> seen(W * H);
     int bad_weights = 0;
-    const RasterStats& stats = r.render_blended(jobs, blended, [&](int x, int y, uint32_t id, const Barycentrics& b) {
+    const RasterStats& stats = r.render_blended(jobs, blended, [&](int x, int y, uint32_t id, const Barycentrics& b, float) {
       seen[size_t(y) * W + x].push_back(r.ref(id).draw_index);
       bad_weights += std::abs(b.b.x + b.b.y + b.b.z - 1.0f) > 1e-5f;
     });

@@ -150,6 +150,34 @@ TEST_CASE("multisampling: alpha-mask coverage is asked at each sample, so mask e
   CHECK(n[12] < 4);
 }
 
+TEST_CASE("multisampling: blended triangles arrive once per pixel with the share of samples they cover") {
+  JobSystem jobs(2);
+  for (int samples : {2, 4, 8}) {
+    const SamplePattern p = sample_pattern(samples);
+    const double e = 12.3;  // a vertical edge: the half-plane x < e
+    const Primitive prim = half_plane({e, 0.0}, {e, 1.0});
+    const RasterDraw d = test::draw_of(prim, test::pixel_to_clip(W, H), 0);
+    TiledRasterizer r;
+    r.render_visibility(jobs, W, H, 8, {}, {}, samples);
+    std::vector<int> calls(size_t(W) * H, 0);
+    std::vector<float> coverage(size_t(W) * H, 0.0f);
+    r.render_blended(jobs, std::span(&d, 1), [&](int x, int y, uint32_t, const Barycentrics&, float c) {
+      ++calls[size_t(y) * W + x];
+      coverage[size_t(y) * W + x] = c;
+    });
+    int expected = 0;
+    for (int s = 0; s < samples; ++s) expected += 12.5 + p.dx(s) < e;
+    CAPTURE(samples);
+    for (int y = 0; y < H; ++y) {
+      CHECK(calls[size_t(y) * W + 5] == 1);
+      CHECK(coverage[size_t(y) * W + 5] == 1.0f);
+      CHECK(calls[size_t(y) * W + 12] == (expected > 0 ? 1 : 0));
+      CHECK(coverage[size_t(y) * W + 12] == float(expected) / float(samples));
+      CHECK(calls[size_t(y) * W + 13] == 0);
+    }
+  }
+}
+
 TEST_CASE("multisampling: sample layers are bit-identical for 1..8 threads and tile sizes 8..256") {
   test::Random rng(3);
   Primitive soup;
