@@ -41,7 +41,8 @@ nlohmann::json load_json_file(const std::string& path) {
   // input file is almost always an editing mistake, so it is an error.
   std::vector<std::set<std::string>> open_objects;
   std::string duplicate;
-  auto check_keys = [&](int, nlohmann::json::parse_event_t event, nlohmann::json& parsed) {
+  auto check_keys = [&](int depth, nlohmann::json::parse_event_t event, nlohmann::json& parsed) {
+    check_json_depth(path, depth, event);
     if (event == nlohmann::json::parse_event_t::object_start) {
       open_objects.emplace_back();
     } else if (event == nlohmann::json::parse_event_t::object_end) {
@@ -60,6 +61,13 @@ nlohmann::json load_json_file(const std::string& path) {
     // e.what() carries "at line L, column C".
     throw InputError(path, std::string("malformed JSON: ") + e.what());
   }
+}
+
+void check_json_depth(const std::string& path, int depth, nlohmann::json::parse_event_t event) {
+  using Event = nlohmann::json::parse_event_t;
+  if ((event == Event::object_start || event == Event::array_start) && depth >= kMaxJsonDepth)
+    throw InputError(path, "JSON nests arrays and objects more than " + std::to_string(kMaxJsonDepth) +
+                               " levels deep");
 }
 
 bool NumberRange::contains(double v) const {

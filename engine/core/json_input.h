@@ -12,8 +12,17 @@
 
 namespace cr {
 
+// Deepest nesting of arrays and objects an input may have. Deeper documents
+// are refused while parsing: code that walks a document recursively (copies,
+// tinygltf's conversion of extras) would otherwise overflow the stack.
+inline constexpr int kMaxJsonDepth = 128;
+
 // Reads and parses a JSON file; a syntax error reports the parser's position.
 nlohmann::json load_json_file(const std::string& path);
+
+// Throws InputError(path, ...) when a parse callback's event opens an array or
+// object below kMaxJsonDepth levels: call it from every parse callback.
+void check_json_depth(const std::string& path, int depth, nlohmann::json::parse_event_t event);
 
 // An inclusive or exclusive interval for numeric fields; always finite-only.
 struct NumberRange {

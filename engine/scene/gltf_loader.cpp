@@ -5,6 +5,7 @@
 #include <fstream>
 
 #include "engine/core/error.h"
+#include "engine/core/json_input.h"
 #include "engine/scene/gltf_context.h"
 #include "engine/scene/gltf_draco.h"
 #include "engine/scene/gltf_image_decoding.h"
@@ -106,8 +107,13 @@ std::string one_line(std::string s) {
 // The JSON document (a .gltf file, or a GLB's JSON chunk) parsed on its own,
 // so syntax errors carry the parser's position and types can be checked.
 nlohmann::json parse_gltf_json(const std::string& path, const unsigned char* begin, const unsigned char* end) {
+  // Depth first: tinygltf converts extras and extensions recursively.
+  const auto depth_limited = [&path](int depth, nlohmann::json::parse_event_t event, nlohmann::json&) {
+    check_json_depth(path, depth, event);
+    return true;
+  };
   try {
-    return nlohmann::json::parse(begin, end);
+    return nlohmann::json::parse(begin, end, depth_limited);
   } catch (const nlohmann::json::exception& e) {  // syntax, and numbers beyond double (1e999)
     throw InputError(path, std::string("malformed glTF JSON: ") + e.what());
   }

@@ -84,6 +84,7 @@ TEST_CASE("profile files: malformed JSON reports the position; bad values name f
                             FileCase{"profile_precision.json", "'precision'"},
                             FileCase{"profile_shadow_map_size.json", "'shadow_map_size'"},
                             FileCase{"profile_duplicate_key.json", "key 'tile_size' appears twice"},
+                            FileCase{"profile_deep_plugin.json", "more than 128 levels deep"},
                             FileCase{"no_such_profile.json", "cannot open"}}) {
     const std::string path = kBad + "/" + c.file;
     CAPTURE(path);

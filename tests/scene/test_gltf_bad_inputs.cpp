@@ -33,6 +33,7 @@ TEST_CASE("crafted malformed glTF files give an InputError naming the file and t
       {"huge_image.gltf", "20000x20000"},
       {"missing_image.gltf", "no_such_texture.png"},
       {"does_not_exist.gltf", "file not found"},
+      {"deep_extras.gltf", "more than 128 levels deep"},
   };
   for (const BadCase& c : cases) {
     const std::string path = std::string(CR_TEST_DATA_DIR) + "/bad/" + c.file;

@@ -113,6 +113,7 @@ TEST_CASE("scene file errors name the file and the field") {
   CHECK(error_of(kBad + "/scene_missing_gltf.json").find("'gltf'") != std::string::npos);
   CHECK(error_of(kBad + "/scene_bad_elevation.json").find("sun.elevation_deg") != std::string::npos);
   CHECK(error_of(kBad + "/scene_malformed.json").find("line 3") != std::string::npos);
+  CHECK(error_of(kBad + "/scene_deep_plugin.json").find("more than 128 levels deep") != std::string::npos);
 
   CHECK(error_of(write_scene("no_gltf.json", {{"frames", 2}})).find("'gltf' is required") != std::string::npos);
   CHECK(error_of(write_scene("nested_unknown.json", {{"gltf", "scene_box.gltf"},
