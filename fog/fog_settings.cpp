@@ -17,6 +17,10 @@ const NumberRange kNonNegative{0.0, kHuge};
 const NumberRange kUnit{0.0, 1.0};
 const NumberRange kAnyFinite{-kHuge, kHuge};
 const NumberRange kAnisotropy{-0.999, 0.999};
+// Mean free paths: from 1 mm (extinction 1000 /m, opaque within a froxel) to
+// 1e30 m, so that the extinction 1 / mfp is a normal float (1e-45 m would
+// overflow it to infinity).
+const NumberRange kMeanFreePath{1e-3, kHuge};
 
 glm::vec3 to_vec3(const glm::dvec3& v) { return glm::vec3(v); }
 
@@ -74,7 +78,7 @@ FogVolume parse_volume(const JsonObject& o) {
   if (o.has("rotation_deg") && o.has("axes")) o.fail("axes", "conflicts with rotation_deg (give one)");
   if (o.has("rotation_deg")) axes_from_euler(o.vec3("rotation_deg", {-3600.0, 3600.0}), v.axes);
   if (o.has("axes")) parse_axes(o, v.axes);
-  v.extinction = float(1.0 / o.number("mean_free_path", kPositive));
+  v.extinction = float(1.0 / o.number("mean_free_path", kMeanFreePath));
   if (o.has("albedo")) v.albedo = to_vec3(o.vec3("albedo", kUnit));
   if (o.has("fade")) v.fade = float(o.number("fade", kNonNegative));
   if (o.has("blend")) v.blend = parse_blend(o, "blend");
@@ -117,7 +121,7 @@ FogSceneSettings parse_fog_scene(const nlohmann::json& section, const std::strin
     if (h.has("base_height")) s.base_height = float(h.number("base_height", kAnyFinite));
     if (h.has("max_height")) s.max_height = float(h.number("max_height", kAnyFinite));
     if (s.max_height <= s.base_height) h.fail("max_height", "must be greater than base_height");
-    s.extinction = float(1.0 / h.number("mean_free_path", kPositive));
+    s.extinction = float(1.0 / h.number("mean_free_path", kMeanFreePath));
     if (h.has("albedo")) s.albedo = to_vec3(h.vec3("albedo", kUnit));
   }
   if (o.has("volumes")) {

@@ -85,6 +85,10 @@ TEST_CASE("scene fog section: bad input names file and field") {
   auto err = [](const char* text) { return error_of([&] { parse_fog_scene(json::parse(text), "s.json"); }); };
   CHECK(err(R"({"heightfog": {}})").find("unknown key 'fog.heightfog'") != std::string::npos);
   CHECK(err(R"({"height_fog": {"mean_free_path": 0}})").find("'fog.height_fog.mean_free_path'") != std::string::npos);
+  // Valid as a number, but its extinction 1 / mfp would overflow a float.
+  CHECK(err(R"({"height_fog": {"mean_free_path": 1e-45}})").find("'fog.height_fog.mean_free_path'") != std::string::npos);
+  CHECK(err(R"({"volumes": [{"center": [0,0,0], "size": [1,1,1], "mean_free_path": 1e-4}]})")
+            .find("'fog.volumes[0].mean_free_path'") != std::string::npos);
   CHECK(err(R"({"height_fog": {"mean_free_path": 5, "base_height": 10, "max_height": 5}})")
             .find("'fog.height_fog.max_height'") != std::string::npos);
   CHECK(err(R"({"volumes": [{"center": [0,0,0], "size": [1,1,1], "mean_free_path": 1, "blend": "screen"}]})")

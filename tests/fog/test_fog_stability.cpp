@@ -1,5 +1,5 @@
 // Stability sweep: no NaN/Inf and physically bounded output over extinction
-// 0 .. mean free path 0.1 m, anisotropy -0.99 .. 0.99, both phase functions,
+// 0 .. 1000 /m (the shortest mean free path a scene may give, 1 mm), anisotropy -0.99 .. 0.99, both phase functions,
 // the camera inside a volume, volumes crossing the near plane, zero-size
 // volumes and camera cuts.
 #include <doctest/doctest.h>
@@ -59,7 +59,9 @@ TEST_CASE("stability sweep: extinction, anisotropy and phase") {
   const Camera cam = camera_at({0, 2, 5}, {0, 2, -10}, kW, kH);
   const glm::vec3 sun(0.2f, 0.5f, -0.8f);  // looking almost into the sun: the phase peak
   const ShadowMap shadow = wall_shadow(cam, sun);
-  for (float extinction : {0.0f, 1e-4f, 0.02f, 1.0f, 10.0f})  // 10 /m = mean free path 0.1 m
+  // 1e-30 and 1000 /m: the extinctions of the longest and shortest mean free
+  // paths a scene may give (1e30 m and 1 mm).
+  for (float extinction : {0.0f, 1e-30f, 1e-4f, 0.02f, 1.0f, 10.0f, 1000.0f})
     for (float g : {-0.99f, -0.5f, 0.0f, 0.7f, 0.99f})
       for (FogPhase phase : {FogPhase::HenyeyGreenstein, FogPhase::CornetteShanks}) {
         CAPTURE(extinction);
