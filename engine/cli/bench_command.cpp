@@ -54,8 +54,8 @@ int bench_command(const std::vector<std::string>& args, const PluginRegistry& re
       .option("warmup", "N", "unmeasured frames first", "2")
       .option("threads", "N", "the multi-thread run's thread count (default: all cores)")
       .option("json", "FILE", "also write the results as JSON")
-      .flag("no-default", "skip the default scene")
-      .flag("allow-missing-images", "render with factor-only materials where image files are missing");
+      .flag("no-default", "skip the default scene");
+  add_model_access_options(p);
   if (!p.parse(args, 0, 64)) return 0;
   const int frames = p.get_int("frames", 1, 100000), warmup = p.get_int("warmup", 0, 1000);
   const unsigned max_threads =
@@ -69,7 +69,7 @@ int bench_command(const std::vector<std::string>& args, const PluginRegistry& re
 
   nlohmann::json out = nlohmann::json::array();
   for (const std::string& scene : scenes) {
-    RunSetup setup = load_run(scene, p.get("profile"), registry, w, h, 1, p.has("allow-missing-images"));
+    RunSetup setup = load_run(scene, p.get("profile"), registry, w, h, 1, model_access(p));
     std::printf("\n%s  (%dx%d, %zu triangles, %d frames + %d warm-up)\n", scene.c_str(), w, h,
                 setup.scene->triangle_count(), frames, warmup);
     std::vector<unsigned> thread_counts = {1};

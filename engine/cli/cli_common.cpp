@@ -16,9 +16,21 @@ void add_scene_options(ArgParser& p) {
   p.option("profile", "NAME|FILE", "render profile: a name in profiles/ or a .json path", "desktop")
       .option("resolution", "WxH", "override the profile's resolution, e.g. 640x360")
       .option("frames", "N", "number of frames (default: the scene's)")
-      .option("threads", "N", "worker threads including the main thread (default: all cores)")
-      .flag("allow-missing-images", "render with factor-only materials where image files are missing");
+      .option("threads", "N", "worker threads including the main thread (default: all cores)");
+  add_model_access_options(p);
   add_scene_override_options(p);
+}
+
+void add_model_access_options(ArgParser& p) {
+  p.flag("allow-missing-images", "render with factor-only materials where image files are missing")
+      .flag("allow-outside-paths", "let a model's URIs name files outside its folder and subfolders");
+}
+
+GltfLoadOptions model_access(const ArgParser& p) {
+  GltfLoadOptions o;
+  o.allow_missing_images = p.has("allow-missing-images");
+  o.allow_outside_paths = p.has("allow-outside-paths");
+  return o;
 }
 
 std::pair<int, int> parse_resolution(const std::string& text, const std::string& command) {
@@ -30,7 +42,7 @@ std::pair<int, int> parse_resolution(const std::string& text, const std::string&
 }
 
 RunSetup load_run(const std::string& scene_path, const std::string& profile, const PluginRegistry& registry,
-                  int width, int height, unsigned threads, bool allow_missing_images) {
+                  int width, int height, unsigned threads, GltfLoadOptions model) {
   RunSetup s;
   const std::vector<std::string> sections = registry.names();
   s.profile = load_profile(resolve_profile_path(profile), sections);
@@ -39,10 +51,8 @@ RunSetup load_run(const std::string& scene_path, const std::string& profile, con
     s.profile.height = height;
   }
   s.description = load_scene_description(scene_path, sections, scene_asset_dirs());
-  GltfLoadOptions options;
-  options.allow_missing_images = allow_missing_images;
-  options.texture_decode_budget = size_t(s.profile.texture_decode_budget_mb) << 20;
-  s.scene = std::make_shared<Scene>(load_gltf(s.description.gltf_path, options));
+  model.texture_decode_budget = size_t(s.profile.texture_decode_budget_mb) << 20;
+  s.scene = std::make_shared<Scene>(load_gltf(s.description.gltf_path, model));
   pose_described_scene(*s.scene, s.description);  // the scene file's animation pose, else the rest pose
   s.threads = threads > 0 ? threads : JobSystem::default_thread_count();
   s.frames = s.description.frames;
@@ -55,7 +65,7 @@ RunSetup load_run_setup(const ArgParser& p, const PluginRegistry& registry) {
   const unsigned threads = p.has("threads") ? unsigned(p.get_int("threads", 1, 1024)) : 0;
   const std::string scene = p.positional().empty() ? default_scene_path() : p.positional()[0];
   const SceneOverrides overrides = parse_scene_overrides(p, "render");
-  RunSetup s = load_run(scene, p.get("profile"), registry, w, h, threads, p.has("allow-missing-images"));
+  RunSetup s = load_run(scene, p.get("profile"), registry, w, h, threads, model_access(p));
   apply_scene_overrides(overrides, s.description);
   if (p.has("frames")) s.frames = p.get_int("frames", 1, 1000000);
   return s;

@@ -10,6 +10,7 @@
 #include "engine/render/frame_buffers.h"
 #include "engine/render/plugin.h"
 #include "engine/render/renderer.h"
+#include "engine/scene/gltf_loader.h"
 #include "engine/scene/scene.h"
 #include "engine/scene/scene_description.h"
 
@@ -25,14 +26,21 @@ struct RunSetup {
 
 // "WxH" with 1..16384 each; UsageError naming `command` otherwise.
 std::pair<int, int> parse_resolution(const std::string& text, const std::string& command);
-// --profile, --resolution, --frames, --threads, --allow-missing-images and
-// the scene overrides (scene_overrides.h: --camera, --sun, --sky, --exposure).
+// --profile, --resolution, --frames, --threads, --allow-missing-images,
+// --allow-outside-paths and the scene overrides (scene_overrides.h: --camera,
+// --sun, --sky, --exposure).
 void add_scene_options(ArgParser& p);
+// --allow-missing-images and --allow-outside-paths, for commands that load models.
+void add_model_access_options(ArgParser& p);
+// What those two flags allow.
+GltfLoadOptions model_access(const ArgParser& p);
 // Loads scene (positional 0 or the default scene), profile and glTF, applying overrides.
 RunSetup load_run_setup(const ArgParser& p, const PluginRegistry& registry);
 // Loads the inputs of one run without a command line (benchmarks, golden tests).
+// `model` says what the glTF may do (missing images, paths); its texture
+// budget is the profile's.
 RunSetup load_run(const std::string& scene_path, const std::string& profile, const PluginRegistry& registry,
-                  int width, int height, unsigned threads, bool allow_missing_images);
+                  int width, int height, unsigned threads, GltfLoadOptions model = {});
 
 // Runs the scene file's animation over the frames (animation.fps) on the
 // renderer of `setup`'s scene; nothing for a still scene.

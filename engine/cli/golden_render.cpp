@@ -43,7 +43,7 @@ std::string describe_buffer_difference(const FrameBuffers& a, const FrameBuffers
 
 GoldenRender render_golden_case(const GoldenCase& c, const PluginRegistry& registry, int width, int height,
                                 unsigned threads) {
-  const RunSetup setup = load_run(c.scene_path, c.profile_path, registry, width, height, 1, false);
+  const RunSetup setup = load_run(c.scene_path, c.profile_path, registry, width, height, 1);
   JobSystem jobs_one(1), jobs_many(threads);
   Renderer one(*setup.scene, setup.description, setup.profile, registry.create_all(), jobs_one);
   Renderer many(*setup.scene, setup.description, setup.profile, registry.create_all(), jobs_many);

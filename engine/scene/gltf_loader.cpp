@@ -1,5 +1,6 @@
 #include "engine/scene/gltf_loader.h"
 
+#include <algorithm>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -48,14 +49,44 @@ bool read_whole_file(const std::string& path, std::vector<unsigned char>& out, s
   return true;
 }
 
+// Which files a model's URIs may name: those inside its folder (and its
+// subfolders) once "..", symlinks and escapes are resolved, unless the user
+// allows more. The first path refused is kept for the error message.
+struct FileAccess {
+  fs::path root;  // the model's folder, canonical
+  bool allow_outside = false;
+  std::string refused;
+
+  // Whether `file` may be read. A file outside that does not exist is only
+  // not found (tinygltf also looks for a missing file in the working folder).
+  bool permits(const fs::path& file) {
+    if (allow_outside) return true;
+    std::error_code ec;
+    const fs::path resolved = fs::weakly_canonical(fs::absolute(file, ec), ec);
+    if (!ec && std::mismatch(root.begin(), root.end(), resolved.begin(), resolved.end()).first == root.end())
+      return true;
+    if (refused.empty() && fs::exists(file, ec)) refused = file.string();
+    return false;
+  }
+  std::string refusal(const std::string& what, const std::string& file) const {
+    return what + " names " + file + ", outside the model's folder " + root.string() +
+           " (pass --allow-outside-paths to read files outside it)";
+  }
+};
+
 // Filesystem callbacks for tinygltf: no shell-style path expansion (its
-// default runs wordexp on URIs from the file) and a size limit on reads.
-bool fs_file_exists(const std::string& path, void*) {
+// default runs wordexp on URIs from the file), reads confined by FileAccess
+// and a size limit on reads.
+bool fs_file_exists(const std::string& path, void* access) {
   std::error_code ec;
-  return fs::is_regular_file(path, ec);
+  return static_cast<FileAccess*>(access)->permits(path) && fs::is_regular_file(path, ec);
 }
 std::string fs_expand_path(const std::string& path, void*) { return path; }
-bool fs_read_file(std::vector<unsigned char>* out, std::string* err, const std::string& path, void*) {
+bool fs_read_file(std::vector<unsigned char>* out, std::string* err, const std::string& path, void* access) {
+  if (!static_cast<FileAccess*>(access)->permits(path)) {
+    if (err) *err += "outside the model's folder: " + path + "\n";
+    return false;
+  }
   std::string why;
   if (read_whole_file(path, *out, why)) return true;
   if (err) *err += why + "\n";
@@ -141,13 +172,17 @@ std::string decode_uri_path(const std::string& uri) {
 
 // External buffer files are required: one that is absent is named here
 // (tinygltf's own failure would only say the glTF is invalid).
-void check_buffer_files(const std::string& path, const nlohmann::json& doc, const std::string& base_dir) {
+void check_buffer_files(const std::string& path, const nlohmann::json& doc, const std::string& base_dir,
+                        FileAccess& access) {
   auto buffers = doc.find("buffers");
   if (buffers == doc.end()) return;
   for (size_t i = 0; i < buffers->size(); ++i) {
     auto uri = (*buffers)[i].find("uri");
     if (uri == (*buffers)[i].end() || uri->get<std::string>().rfind("data:", 0) == 0) continue;
     const std::string name = decode_uri_path(uri->get<std::string>());
+    const fs::path file = fs::path(base_dir) / name;
+    if (!access.permits(file))
+      throw InputError(path, access.refusal("buffers[" + std::to_string(i) + "].uri", file.string()));
     std::error_code ec;
     if (!fs::is_regular_file(fs::path(base_dir) / name, ec)) {
       throw InputError(path, "missing file: " + name + " (buffers[" + std::to_string(i) + "])");
@@ -223,21 +258,25 @@ Scene load_gltf(const std::string& path, const GltfLoadOptions& options) {
   std::string read_error;
   if (!read_whole_file(path, bytes, read_error)) throw InputError(path, read_error);
 
+  const std::string base_dir = fs::path(path).parent_path().string();
+  FileAccess access;
+  access.allow_outside = options.allow_outside_paths;
+  std::error_code ec;
+  access.root = fs::weakly_canonical(fs::absolute(base_dir.empty() ? fs::path(".") : fs::path(base_dir), ec), ec);
   tinygltf::TinyGLTF loader;
-  loader.SetFsCallbacks({&fs_file_exists, &fs_expand_path, &fs_read_file, &fs_write_file, nullptr});
+  loader.SetFsCallbacks({&fs_file_exists, &fs_expand_path, &fs_read_file, &fs_write_file, &access});
   ImageDecodeLog decode_log;
   loader.SetImageLoader(&capture_gltf_image, &decode_log);
 
   tinygltf::Model model;
   std::string err, warn;
-  const std::string base_dir = fs::path(path).parent_path().string();
   const bool glb = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
   if (glb) validate_glb_layout(path, bytes);
   const unsigned char* json = glb ? bytes.data() + 20 : bytes.data();
   nlohmann::json doc = parse_gltf_json(path, json, glb ? json + read_le32(&bytes[12]) : bytes.data() + bytes.size());
   validate_gltf_schema(path, doc);
   const MeshoptDocument meshopt = prepare_meshopt_compression(path, doc);
-  check_buffer_files(path, doc, base_dir);
+  check_buffer_files(path, doc, base_dir, access);
   const std::vector<DetachedIndices> detached = detach_dataless_indices(doc);
   if (meshopt.fallback_replaced || !detached.empty()) {
     const std::string edited = doc.dump();
@@ -248,6 +287,7 @@ Scene load_gltf(const std::string& path, const GltfLoadOptions& options) {
   const bool ok = glb ? loader.LoadBinaryFromMemory(&model, &err, &warn, bytes.data(), size, base_dir)
                       : loader.LoadASCIIFromString(&model, &err, &warn, reinterpret_cast<const char*>(bytes.data()),
                                                    size, base_dir);
+  if (!access.refused.empty()) throw InputError(path, access.refusal("a URI", access.refused));
   if (!ok) throw InputError(path, "invalid glTF: " + one_line(err.empty() ? warn : err));
   restore_indices(model, detached);
   if (model.asset.version.rfind("2.", 0) != 0) {

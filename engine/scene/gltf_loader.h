@@ -28,6 +28,9 @@ struct GltfLoadOptions {
   // Load even when image files are missing: textures that use them are dropped
   // (their material falls back to its factors) and a warning names each one.
   bool allow_missing_images = false;
+  // Let URIs name files outside the model's folder and its subfolders
+  // (refused by default: a model file must not read arbitrary files).
+  bool allow_outside_paths = false;
   // Bytes of linear-float texture copies (image_texels.h) the loader may add:
   // images in file order are decoded while they fit, the rest stay RGBA8.
   size_t texture_decode_budget = size_t(512) << 20;

@@ -25,7 +25,7 @@ cr::RunSetup load(const std::string& scene_file) {
   cr::PluginRegistry sections;
   for (const char* name : {"atmosphere", "fog"}) sections.add(name, [] { return std::unique_ptr<cr::Plugin>(); });
   return cr::load_run(scene_file, std::string(CR_SOURCE_DIR) + "/profiles/desktop.json",
-                      sections, 96, 64, 2, false);
+                      sections, 96, 64, 2);
 }
 
 // The colour of the scene's frame `last` (frames 0..last rendered in order).
