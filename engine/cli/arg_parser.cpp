@@ -45,9 +45,12 @@ bool ArgParser::parse(const std::vector<std::string>& args, size_t min_positiona
         values_.insert_or_assign(name, std::string("1"));
       } else {
         if (!inline_value) {
-          if (i + 1 >= args.size()) throw UsageError(command_ + ": --" + name + " needs a value (" + it->second.metavar + ")");
+          // A following option is not a value: "--resolution --out DIR" lacks the resolution.
+          if (i + 1 >= args.size() || args[i + 1].rfind("--", 0) == 0)
+            throw UsageError(command_ + ": --" + name + " needs a value (" + it->second.metavar + ")");
           value = args[++i];
         }
+        if (value.empty()) throw UsageError(command_ + ": --" + name + " needs a value (" + it->second.metavar + "), got ''");
         values_[name] = value;
       }
     } else {

@@ -1,6 +1,5 @@
 #include "engine/cli/cli_common.h"
 
-#include <cstdio>
 
 #include "engine/cli/paths.h"
 #include "engine/cli/scene_overrides.h"
@@ -34,9 +33,20 @@ GltfLoadOptions model_access(const ArgParser& p) {
 }
 
 std::pair<int, int> parse_resolution(const std::string& text, const std::string& command) {
-  int w = 0, h = 0;
-  char tail = 0;
-  if (std::sscanf(text.c_str(), "%dx%d%c", &w, &h, &tail) != 2 || w < 1 || h < 1 || w > 16384 || h > 16384)
+  // Digits only, at most 5 of them each: no sign, no spaces, no overflow
+  // (sscanf's %d wrapped 4294967360 to 64).
+  const size_t x = text.find('x');
+  auto side = [&](size_t begin, size_t end) {
+    if (end <= begin || end - begin > 5) return 0;
+    int v = 0;
+    for (size_t i = begin; i < end; ++i) {
+      if (text[i] < '0' || text[i] > '9') return 0;
+      v = v * 10 + (text[i] - '0');
+    }
+    return v;
+  };
+  const int w = x == std::string::npos ? 0 : side(0, x), h = x == std::string::npos ? 0 : side(x + 1, text.size());
+  if (w < 1 || h < 1 || w > 16384 || h > 16384)
     throw UsageError(command + ": --resolution expects WxH with 1..16384 each, got '" + text + "'");
   return {w, h};
 }

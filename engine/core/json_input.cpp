@@ -1,6 +1,7 @@
 #include "engine/core/json_input.h"
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -25,6 +26,8 @@ std::string format_number(double v) {
 }  // namespace
 
 nlohmann::json load_json_file(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw InputError(path, "is a directory, not a JSON file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, "cannot open file");
   in.seekg(0, std::ios::end);
@@ -59,6 +62,8 @@ nlohmann::json load_json_file(const std::string& path) {
     return doc;
   } catch (const nlohmann::json::parse_error& e) {
     // e.what() carries "at line L, column C".
+    throw InputError(path, std::string("malformed JSON: ") + e.what());
+  } catch (const nlohmann::json::out_of_range& e) {  // a number beyond double, e.g. 1e999
     throw InputError(path, std::string("malformed JSON: ") + e.what());
   }
 }
