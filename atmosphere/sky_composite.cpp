@@ -622,8 +622,9 @@ void composite_sky(const SkyFrame& f, FrameBuffers& buffers, int x0, int y0, int
 
 void composite_sky_fragments(const SkyFrame& f, int width, int height, std::span<EdgeFragment> fragments) {
   if (!f.valid) return;
+  const PixelRays rays(f.camera, width, height);
   for (EdgeFragment& e : fragments) {
-    const glm::vec3 dir = f.camera.ray_direction(e.x, e.y, width, height);
+    const glm::vec3 dir = rays.direction(e.x, e.y);
     e.color = e.depth == 0.0f ? sky_radiance(f, dir, true) : apply_aerial_perspective(f, dir, e.distance, e.color);
   }
 }

@@ -13,7 +13,6 @@
 #include <cstdio>
 #include <fstream>
 #include <map>
-#include <sstream>
 
 #include <nlohmann/json.hpp>
 
@@ -93,10 +92,7 @@ int antialiasing_command(const std::vector<std::string>& args, const PluginRegis
   if (!p.parse(args, 0, 1)) return 0;
   const RunSetup setup = load_run_setup(p, registry);
   std::vector<Mode> modes;
-  {
-    std::stringstream ss(p.get("modes"));
-    for (std::string m; std::getline(ss, m, ',');) modes.push_back(parse_mode(m));
-  }
+  for (const std::string& m : p.get_list("modes")) modes.push_back(parse_mode(m));
   const int k = p.get_int("factor", 1, 8);
   const int timing_frames = p.get_int("timing-frames", 0, 10000);
   const int rounds = p.get_int("rounds", 1, 100);

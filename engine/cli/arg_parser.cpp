@@ -78,6 +78,13 @@ std::string ArgParser::get(const std::string& name) const {
   throw std::logic_error("ArgParser: option --" + name + " not given and has no default");
 }
 
+std::vector<std::string> ArgParser::get_list(const std::string& name) const {
+  std::vector<std::string> items;
+  std::stringstream ss(get(name));
+  for (std::string item; std::getline(ss, item, ',');) items.push_back(item);
+  return items;
+}
+
 int ArgParser::get_int(const std::string& name, int min, int max) const {
   const std::string s = get(name);
   size_t used = 0;

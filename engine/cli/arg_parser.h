@@ -24,6 +24,8 @@ class ArgParser {
   const std::vector<std::string>& positional() const { return positional_; }
   bool has(const std::string& name) const;  // option given or defaulted, or flag set
   std::string get(const std::string& name) const;
+  // A comma-separated value split into its items ("png,exr" -> png, exr).
+  std::vector<std::string> get_list(const std::string& name) const;
   int get_int(const std::string& name, int min, int max) const;
   double get_double(const std::string& name, double min, double max) const;
   std::string help() const;

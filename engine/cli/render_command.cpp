@@ -3,7 +3,6 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
-#include <sstream>
 
 #include "engine/cli/arg_parser.h"
 #include "engine/cli/cli_common.h"
@@ -29,13 +28,10 @@ int render_command(const std::vector<std::string>& args, const PluginRegistry& r
   RunSetup setup = load_run_setup(p, registry);
   const std::string out = p.get("out");
   bool png = false, exr = false;
-  {
-    std::stringstream ss(p.get("format"));
-    for (std::string f; std::getline(ss, f, ',');) {
-      if (f == "png") png = true;
-      else if (f == "exr") exr = true;
-      else if (f != "none") throw UsageError("render: unknown --format '" + f + "' (png, exr, none)");
-    }
+  for (const std::string& f : p.get_list("format")) {
+    if (f == "png") png = true;
+    else if (f == "exr") exr = true;
+    else if (f != "none") throw UsageError("render: unknown --format '" + f + "' (png, exr, none)");
   }
   const int first = p.get_int("first-frame", 0, 1 << 20);
   const bool quiet = p.has("quiet");

@@ -47,6 +47,7 @@ void classify_samples(const TiledRasterizer& raster, const Camera& cam, JobSyste
   const VisibilityBuffer& vis = raster.visibility();
   const int w = vis.width;
   const bool merge = !cam.orthographic;
+  const PixelRays rays(cam, w, vis.height);
   const SamplePattern& pattern = vis.pattern;
   const int n = pattern.count;
   ids.resize(vis.triangle.size());
@@ -115,7 +116,7 @@ void classify_samples(const TiledRasterizer& raster, const Camera& cam, JobSyste
           f.y = float(y) + 0.5f + sum_dy[k] / c;
           f.weight = c * inv_n;
           f.depth = id[k] == kNoTriangle ? 0.0f : sum_z[k] / c;
-          f.distance = view_distance(cam, w, vis.height, f.x, f.y, f.depth);
+          f.distance = view_distance(cam, rays, f.x, f.y, f.depth);
           out.push_back(f);
         }
       }

@@ -19,20 +19,22 @@ inline float distance_at(const Camera& cam, float depth, float one_plus_sx2, flo
 }  // namespace
 
 float view_distance(const Camera& cam, int w, int h, float px, float py, float depth) {
-  const float t = std::tan(0.5f * cam.vfov_rad);
-  const float sx = (2.0f * px / float(w) - 1.0f) * t * cam.aspect;
-  const float sy = (1.0f - 2.0f * py / float(h)) * t;
-  return distance_at(cam, depth, ray_term(sx), sy * sy);
+  return view_distance(cam, PixelRays(cam, w, h), px, py, depth);
+}
+
+float view_distance(const Camera& cam, const PixelRays& rays, float px, float py, float depth) {
+  const float sy = rays.screen_y(py);
+  return distance_at(cam, depth, ray_term(rays.screen_x(px)), sy * sy);
 }
 
 void view_distances(const Camera& cam, int w, int h, const std::vector<float>& depth, std::vector<float>& distance,
                     JobSystem& jobs) {
-  const float t = std::tan(0.5f * cam.vfov_rad);
+  const PixelRays rays(cam, w, h);
   std::vector<float> sx2(static_cast<size_t>(w));
-  for (int x = 0; x < w; ++x) sx2[size_t(x)] = ray_term((2.0f * (float(x) + 0.5f) / float(w) - 1.0f) * t * cam.aspect);
+  for (int x = 0; x < w; ++x) sx2[size_t(x)] = ray_term(rays.screen_x(float(x) + 0.5f));
   jobs.parallel_for("depth", size_t(h), 8, [&](size_t y0, size_t y1) {
     for (size_t y = y0; y < y1; ++y) {
-      const float sy = (1.0f - 2.0f * (float(y) + 0.5f) / float(h)) * t;
+      const float sy = rays.screen_y(float(y) + 0.5f);
       const float sy2 = sy * sy;
       const size_t row = y * size_t(w);
       for (int x = 0; x < w; ++x) distance[row + size_t(x)] = distance_at(cam, depth[row + size_t(x)], sx2[size_t(x)], sy2);

@@ -15,6 +15,8 @@ namespace cr {
 // of pixel (x, y) is x + 0.5, y + 0.5) of a w x h image at `depth`; +inf for
 // depth 0 (nothing drawn).
 float view_distance(const Camera& cam, int w, int h, float px, float py, float depth);
+// The same with the image's rays prepared once (`rays` of `cam` and the image).
+float view_distance(const Camera& cam, const PixelRays& rays, float px, float py, float depth);
 
 // view_distance at every pixel centre: distance[i] for depth[i], row-major.
 void view_distances(const Camera& cam, int w, int h, const std::vector<float>& depth, std::vector<float>& distance,
