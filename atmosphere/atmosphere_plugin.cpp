@@ -3,6 +3,7 @@
 #include <cmath>
 #include <iostream>
 
+#include "atmosphere/atmosphere_memory.h"
 #include "atmosphere/sky_commands.h"
 #include "atmosphere/sky_composite.h"
 #include "atmosphere/sky_lighting.h"
@@ -28,6 +29,15 @@ bool AtmospherePlugin::configure(const Scene& scene, const SceneDescription& des
   scheduler_->set_model(scene_.model);
   environment_ = std::make_unique<SkyEnvironment>(settings_);
   return true;
+}
+
+void AtmospherePlugin::estimate_memory(const SceneDescription& description, const Profile& profile,
+                                       MemoryBudget& memory) const {
+  auto it = description.plugins.find("atmosphere");
+  if (it == description.plugins.end() || it->is_null()) return;
+  auto pit = profile.plugins.find("atmosphere");
+  estimate_atmosphere_memory(parse_atmosphere_settings(pit == profile.plugins.end() ? nlohmann::json() : *pit, profile.path),
+                             profile.path, memory);
 }
 
 void AtmospherePlugin::add_passes(FrameGraph& graph, FrameContext& ctx) {

@@ -31,6 +31,8 @@ class AtmospherePlugin : public Plugin {
  public:
   std::string name() const override { return "atmosphere"; }
   bool configure(const Scene& scene, const SceneDescription& description, const Profile& profile) override;
+  void estimate_memory(const SceneDescription& description, const Profile& profile,
+                       MemoryBudget& memory) const override;
   void add_passes(FrameGraph& graph, FrameContext& ctx) override;
   std::vector<std::string> composite_reads() const override { return {"atmosphere.sky"}; }
   int composite_order() const override { return 100; }

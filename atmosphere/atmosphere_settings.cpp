@@ -1,10 +1,28 @@
 #include "atmosphere/atmosphere_settings.h"
 
 #include <algorithm>
+#include <cstdio>
 
 #include "atmosphere/config_fields.h"
 
 namespace cr {
+
+namespace {
+
+// One LUT rebuild may march at most this many steps: about 2-8 s on one core
+// (7-30 ns a step), so no profile can ask for a bake of minutes (desktop's
+// largest, the multiscattering LUT, marches 2.6 million).
+constexpr double kMaxRebuildSteps = double(1 << 28);
+
+void require_rebuild_steps(ConfigFields& lut, const char* field, double steps, const char* what) {
+  if (steps <= kMaxRebuildSteps) return;
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "%s march %.3g steps per rebuild, more than the limit of %.3g", what, steps,
+                kMaxRebuildSteps);
+  lut.fail(field, buf);
+}
+
+}  // namespace
 
 const char* lut_name(LutKind kind) {
   switch (kind) {
@@ -24,6 +42,8 @@ AtmosphereSettings parse_atmosphere_settings(const nlohmann::json& section, cons
   s.transmittance_width = t.integer("width", s.transmittance_width, 4, 4096);
   s.transmittance_height = t.integer("height", s.transmittance_height, 4, 4096);
   s.transmittance_steps = t.integer("steps", s.transmittance_steps, 1, 4096);
+  require_rebuild_steps(t, "steps", double(s.transmittance_width) * s.transmittance_height * s.transmittance_steps,
+                        "width x height x steps");
   t.finish();
 
   ConfigFields ms = f.object("multiscattering_lut");
@@ -43,6 +63,12 @@ AtmosphereSettings parse_atmosphere_settings(const nlohmann::json& section, cons
     if (n * n != s.multiscattering_directions || n % 2 != 0)
       ms.fail("directions", "must be n*n with n even (stratified, mirror-symmetric about the sun plane), e.g. 64");
   }
+  // Each texel marches every direction once per explicit order and once more
+  // for the series' second order.
+  require_rebuild_steps(ms, "steps",
+                        double(s.multiscattering_width) * s.multiscattering_height * s.multiscattering_directions *
+                            s.multiscattering_steps * (1 + s.multiscattering_max_explicit_orders),
+                        "width x height x directions x steps x (1 + max_explicit_orders)");
   ms.finish();
 
   ConfigFields sv = f.object("skyview_lut");
@@ -53,6 +79,8 @@ AtmosphereSettings parse_atmosphere_settings(const nlohmann::json& section, cons
   s.skyview_min_steps = sv.integer("min_steps", s.skyview_min_steps, 1, 1024);
   s.skyview_max_steps = sv.integer("max_steps", s.skyview_max_steps, 1, 1024);
   if (s.skyview_max_steps < s.skyview_min_steps) sv.fail("max_steps", "must be >= min_steps");
+  require_rebuild_steps(sv, "max_steps", double(s.skyview_width) * s.skyview_height * s.skyview_max_steps,
+                        "width x height x max_steps");
   sv.finish();
 
   ConfigFields ap = f.object("aerial_perspective_lut");
@@ -61,6 +89,8 @@ AtmosphereSettings parse_atmosphere_settings(const nlohmann::json& section, cons
   s.ap_depth = ap.integer("depth", s.ap_depth, 2, 512);
   s.ap_km_per_slice = float(ap.number("km_per_slice", s.ap_km_per_slice, 0.001, 1000.0));
   s.ap_steps_per_slice = ap.integer("steps_per_slice", s.ap_steps_per_slice, 1, 64);
+  require_rebuild_steps(ap, "steps_per_slice", double(s.ap_width) * s.ap_height * s.ap_depth * s.ap_steps_per_slice,
+                        "width x height x depth x steps_per_slice");
   ap.finish();
 
   ConfigFields sched = f.object("schedule");
@@ -94,7 +124,8 @@ AtmosphereSettings parse_atmosphere_settings(const nlohmann::json& section, cons
   inv.finish();
 
   s.space_altitude = f.number("space_fallback_altitude_m", s.space_altitude, 0.0, 1e9);
-  s.space_steps = f.integer("space_march_steps", s.space_steps, 1, 4096);
+  // Marched per pixel every frame in space: kept to what a frame can afford.
+  s.space_steps = f.integer("space_march_steps", s.space_steps, 1, 256);
   f.finish();
   return s;
 }

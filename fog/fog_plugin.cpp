@@ -24,6 +24,21 @@ bool FogPlugin::configure(const Scene& scene, const SceneDescription& descriptio
   return true;
 }
 
+void FogPlugin::estimate_memory(const SceneDescription& description, const Profile& profile,
+                                MemoryBudget& memory) const {
+  if (!description.plugins.contains("fog")) return;
+  FogProfileSettings p;
+  if (profile.plugins.contains("fog")) p = parse_fog_profile(profile.plugins.at("fog"), profile.path);
+  const size_t columns = saturating_product({size_t((profile.width + p.froxel_size_px - 1) / p.froxel_size_px),
+                                             size_t((profile.height + p.froxel_size_px - 1) / p.froxel_size_px)});
+  // Per froxel: density, the integrated froxel and its sun knot, and ten
+  // float planes (sun visibility now, two histories, filter scratch and
+  // result, the still mean, light change, integrated visibility, masks).
+  const size_t per_froxel = sizeof(FogDensity) + sizeof(IntegratedFroxel) + sizeof(glm::vec3) + 10 * sizeof(float);
+  memory.charge("froxel grid of " + std::to_string(columns) + " columns x " + std::to_string(p.slices) + " slices",
+                profile.path, "fog.froxel_size_px", saturating_product({columns, size_t(p.slices), per_froxel}));
+}
+
 void FogPlugin::add_passes(FrameGraph& graph, FrameContext& ctx) {
   FroxelFog* fog = fog_.get();
   FrameContext* c = &ctx;

@@ -18,6 +18,8 @@ class FogPlugin : public Plugin {
  public:
   std::string name() const override { return "fog"; }
   bool configure(const Scene& scene, const SceneDescription& description, const Profile& profile) override;
+  void estimate_memory(const SceneDescription& description, const Profile& profile,
+                       MemoryBudget& memory) const override;
   void add_passes(FrameGraph& graph, FrameContext& ctx) override;
   std::vector<std::string> composite_reads() const override { return {"fog.volume"}; }
   int composite_order() const override { return 200; }

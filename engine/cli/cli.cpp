@@ -2,6 +2,7 @@
 // 0 success, 1 a check failed (compare/golden), 2 usage or input error.
 #include <cstdio>
 #include <iostream>
+#include <new>
 #include <string>
 #include <vector>
 
@@ -73,6 +74,12 @@ int run_cli(int argc, char** argv, const std::function<void(PluginRegistry&)>& r
       return 2;
     } catch (const InputError& e) {
       std::fprintf(stderr, "cpurender: error: %s\n", e.what());
+      return 2;
+    } catch (const std::bad_alloc&) {
+      // Estimates (--memory-limit) cover what inputs ask for; this is what they missed.
+      std::fprintf(stderr,
+                   "cpurender: error: out of memory: an allocation failed although the run's estimate was within "
+                   "--memory-limit; lower the resolution, anti-aliasing, LUT, froxel or texture sizes\n");
       return 2;
     } catch (const std::exception& e) {
       std::fprintf(stderr, "cpurender: error: %s\n", e.what());

@@ -6,6 +6,7 @@
 #include "engine/core/error.h"
 #include "engine/output/exr_io.h"
 #include "engine/output/png_io.h"
+#include "engine/render/frame_memory.h"
 #include "engine/scene/gltf_loader.h"
 #include "engine/scene/scene_animation.h"
 
@@ -15,7 +16,10 @@ void add_scene_options(ArgParser& p) {
   p.option("profile", "NAME|FILE", "render profile: a name in profiles/ or a .json path", "desktop")
       .option("resolution", "WxH", "override the profile's resolution, e.g. 640x360")
       .option("frames", "N", "number of frames (default: the scene's)")
-      .option("threads", "N", "worker threads including the main thread (default: all cores)");
+      .option("threads", "N", "worker threads including the main thread (default: all cores)")
+      .option("memory-limit", "SIZE",
+              "refuse a run estimated to need more, e.g. 4G, 512M; 0: no limit (default: half the machine's memory, " +
+                  MemoryBudget::format_bytes(MemoryBudget::default_limit()) + ")");
   add_model_access_options(p);
   add_scene_override_options(p);
 }
@@ -52,8 +56,9 @@ std::pair<int, int> parse_resolution(const std::string& text, const std::string&
 }
 
 RunSetup load_run(const std::string& scene_path, const std::string& profile, const PluginRegistry& registry,
-                  int width, int height, unsigned threads, GltfLoadOptions model) {
+                  int width, int height, unsigned threads, GltfLoadOptions model, size_t memory_limit) {
   RunSetup s;
+  s.memory = MemoryBudget(memory_limit);
   const std::vector<std::string> sections = registry.names();
   s.profile = load_profile(resolve_profile_path(profile), sections);
   if (width > 0) {
@@ -61,6 +66,10 @@ RunSetup load_run(const std::string& scene_path, const std::string& profile, con
     s.profile.height = height;
   }
   s.description = load_scene_description(scene_path, sections, scene_asset_dirs());
+  // Cheapest to know first: what the profile's frames and plugins need.
+  estimate_frame_memory(s.profile, s.memory);
+  for (const std::unique_ptr<Plugin>& plugin : registry.create_all())
+    plugin->estimate_memory(s.description, s.profile, s.memory);
   model.texture_decode_budget = size_t(s.profile.texture_decode_budget_mb) << 20;
   s.scene = std::make_shared<Scene>(load_gltf(s.description.gltf_path, model));
   pose_described_scene(*s.scene, s.description);  // the scene file's animation pose, else the rest pose
@@ -73,9 +82,13 @@ RunSetup load_run_setup(const ArgParser& p, const PluginRegistry& registry) {
   int w = 0, h = 0;
   if (p.has("resolution")) std::tie(w, h) = parse_resolution(p.get("resolution"), "render");
   const unsigned threads = p.has("threads") ? unsigned(p.get_int("threads", 1, 1024)) : 0;
+  size_t memory_limit = MemoryBudget::default_limit();
+  if (p.has("memory-limit") && !MemoryBudget::parse_size(p.get("memory-limit"), memory_limit))
+    throw UsageError("render: --memory-limit expects a size such as 4G, 512M, 100k or a byte count, got '" +
+                     p.get("memory-limit") + "'");
   const std::string scene = p.positional().empty() ? default_scene_path() : p.positional()[0];
   const SceneOverrides overrides = parse_scene_overrides(p, "render");
-  RunSetup s = load_run(scene, p.get("profile"), registry, w, h, threads, model_access(p));
+  RunSetup s = load_run(scene, p.get("profile"), registry, w, h, threads, model_access(p), memory_limit);
   apply_scene_overrides(overrides, s.description);
   if (p.has("frames")) s.frames = p.get_int("frames", 1, 1000000);
   return s;
@@ -109,6 +122,8 @@ RunReport make_run_report(const RunSetup& setup, const JobSystem& jobs) {
   r.build.flags = "-ffp-contract=off -fno-fast-math";
   r.extra["triangles"] = setup.scene->triangle_count();
   r.extra["draws"] = setup.scene->draws.size();
+  r.extra["memory_estimate_bytes"] = setup.memory.total();
+  r.extra["memory_limit_bytes"] = setup.memory.limit();
   return r;
 }
 

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "engine/cli/arg_parser.h"
+#include "engine/core/memory_budget.h"
 #include "engine/core/profile.h"
 #include "engine/output/timing_report.h"
 #include "engine/render/frame_buffers.h"
@@ -22,12 +23,15 @@ struct RunSetup {
   std::shared_ptr<Scene> scene;
   unsigned threads = 1;
   int frames = 1;
+  // What the run was estimated to need before anything large was allocated:
+  // frame buffers, shadow maps, decoded textures and buffers, plugin LUTs and grids.
+  MemoryBudget memory;
 };
 
 // "WxH" with 1..16384 each; UsageError naming `command` otherwise.
 std::pair<int, int> parse_resolution(const std::string& text, const std::string& command);
-// --profile, --resolution, --frames, --threads, --allow-missing-images,
-// --allow-outside-paths and the scene overrides (scene_overrides.h: --camera,
+// --profile, --resolution, --frames, --threads, --memory-limit,
+// --allow-missing-images, --allow-outside-paths and the scene overrides (scene_overrides.h: --camera,
 // --sun, --sky, --exposure).
 void add_scene_options(ArgParser& p);
 // --allow-missing-images and --allow-outside-paths, for commands that load models.
@@ -38,9 +42,12 @@ GltfLoadOptions model_access(const ArgParser& p);
 RunSetup load_run_setup(const ArgParser& p, const PluginRegistry& registry);
 // Loads the inputs of one run without a command line (benchmarks, golden tests).
 // `model` says what the glTF may do (missing images, paths); its texture
-// budget is the profile's.
+// budget is the profile's. The run's memory estimate is checked against
+// `memory_limit` (bytes, 0 = none) as each part is loaded: InputError naming
+// the file and field that ask for too much.
 RunSetup load_run(const std::string& scene_path, const std::string& profile, const PluginRegistry& registry,
-                  int width, int height, unsigned threads, GltfLoadOptions model = {});
+                  int width, int height, unsigned threads, GltfLoadOptions model = {},
+                  size_t memory_limit = MemoryBudget::default_limit());
 
 // Runs the scene file's animation over the frames (animation.fps) on the
 // renderer of `setup`'s scene; nothing for a still scene.

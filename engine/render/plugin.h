@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "engine/core/job_system.h"
+#include "engine/core/memory_budget.h"
 #include "engine/core/profile.h"
 #include "engine/render/frame_buffers.h"
 #include "engine/scene/camera.h"
@@ -65,6 +66,14 @@ class Plugin {
   // it then adds no passes and costs nothing.
   virtual bool configure(const Scene& scene, const SceneDescription& description,
                          const Profile& profile) = 0;
+  // Charges to `memory` what configure() and the frames would allocate for
+  // this description and profile (LUTs, grids), before anything is
+  // allocated; nothing when the description does not use the plugin.
+  // Throws InputError as configure() does.
+  virtual void estimate_memory(const SceneDescription& description, const Profile& profile,
+                               MemoryBudget& memory) const {
+    (void)description; (void)profile; (void)memory;
+  }
   // Declares this frame's passes. The graph culls those nobody reads.
   virtual void add_passes(FrameGraph& graph, FrameContext& ctx) = 0;
   // Resources the per-pixel composite reads (become reads of the composite pass).
