@@ -1,13 +1,20 @@
 // Messages for inputs that used to mislead: a resolution that overflowed int,
 // an option whose value is the next option, an empty value, a number beyond
-// double in a JSON file, a directory given as a JSON file.
+// double in a JSON file, a directory given as a JSON file, an allocation
+// that fails.
 #include <doctest/doctest.h>
 
+#include <unistd.h>
+
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <new>
+#include <sstream>
 
 #include "engine/cli/arg_parser.h"
 #include "engine/cli/cli_common.h"
+#include "engine/cli/commands.h"
 #include "engine/core/error.h"
 #include "engine/core/json_input.h"
 
@@ -65,4 +72,27 @@ TEST_CASE("JSON files: a number beyond double and a directory name the file") {
     CHECK(std::string(e.what()).find("is a directory") != std::string::npos);
   }
   std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("CLI: std::bad_alloc reaches the user as an out-of-memory message and exit code 2") {
+  const std::filesystem::path log = std::filesystem::temp_directory_path() / "cr_cli_bad_alloc.txt";
+  std::fflush(stderr);
+  const int saved = dup(2);
+  FILE* f = std::fopen(log.c_str(), "w");
+  REQUIRE(f);
+  dup2(fileno(f), 2);
+  char cmd[] = "cpurender", name[] = "oom";
+  char* argv[] = {cmd, name};
+  const int rc = cr::run_cli(2, argv, [](cr::PluginRegistry& r) {
+    r.add_command({"oom", "throws std::bad_alloc", [](const std::vector<std::string>&) -> int { throw std::bad_alloc(); }});
+  });
+  std::fflush(stderr);
+  dup2(saved, 2);
+  close(saved);
+  std::fclose(f);
+  std::stringstream text;
+  text << std::ifstream(log).rdbuf();
+  CHECK(rc == 2);
+  CHECK(text.str().find("cpurender: error: out of memory: an allocation failed") == 0);
+  CHECK(text.str().find("std::bad_alloc") == std::string::npos);
 }
