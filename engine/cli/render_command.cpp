@@ -8,6 +8,7 @@
 #include "engine/cli/cli_common.h"
 #include "engine/cli/paths.h"
 #include "engine/output/chrome_trace.h"
+#include "engine/output/run_status.h"
 #include "engine/output/timing_report.h"
 #include "engine/render/renderer.h"
 
@@ -38,24 +39,25 @@ int render_command(const std::vector<std::string>& args, const PluginRegistry& r
   std::filesystem::create_directories(out);
 
   JobSystem jobs(setup.threads);
-  Renderer renderer(*setup.scene, setup.description, setup.profile, registry.create_all(), jobs);
-  attach_playback(renderer, setup);
   RunReport report = make_run_report(setup, jobs);
-
-  for (int f = first; f < first + setup.frames; ++f) {
-    const FrameRecord& rec = renderer.render_frame(f);
-    report.frames.push_back(to_report_frame(rec));
-    char name[64];
-    std::snprintf(name, sizeof name, "/frame_%04d", f);
-    if (png) write_frame_png(out + name + ".png", renderer.buffers());
-    if (exr) write_frame_exr(out + name + ".exr", renderer.buffers());
-    if (!quiet && setup.frames > 1)
-      std::fprintf(stderr, "\rframe %d/%d  %.2f ms", f - first + 1, setup.frames, rec.frame_ms);
-  }
-  if (!quiet && setup.frames > 1) std::fprintf(stderr, "\n");
-
-  write_report_json(out + "/report.json", report);
-  if (!p.has("no-trace")) write_chrome_trace(out + "/trace.json", report);
+  // report.json says "running" until the trace, the last file, is written (run_status.h).
+  report_run(out + "/report.json", report, [&] {
+    Renderer renderer(*setup.scene, setup.description, setup.profile, registry.create_all(), jobs);
+    attach_playback(renderer, setup);
+    for (int f = first; f < first + setup.frames; ++f) {
+      const FrameRecord& rec = renderer.render_frame(f);
+      char name[64];
+      std::snprintf(name, sizeof name, "/frame_%04d", f);
+      if (png) write_frame_png(out + name + ".png", renderer.buffers());
+      if (exr) write_frame_exr(out + name + ".exr", renderer.buffers());
+      // After its files: a failed run's report lists exactly the frames on disk.
+      report.frames.push_back(to_report_frame(rec));
+      if (!quiet && setup.frames > 1)
+        std::fprintf(stderr, "\rframe %d/%d  %.2f ms", f - first + 1, setup.frames, rec.frame_ms);
+    }
+    if (!quiet && setup.frames > 1) std::fprintf(stderr, "\n");
+    if (!p.has("no-trace")) write_chrome_trace(out + "/trace.json", report);
+  });
   if (!quiet) {
     std::cout << format_summary(report);
     std::cout << "wrote " << out << "/" << (png ? "frame_*.png " : "") << (exr ? "frame_*.exr " : "")

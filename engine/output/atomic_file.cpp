@@ -4,7 +4,6 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include <atomic>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -12,25 +11,24 @@
 #include <sstream>
 
 #include "engine/core/error.h"
+#include "engine/output/temp_files.h"
 
 namespace cr {
 namespace {
 
 std::string errno_text(int error) { return std::strerror(error); }
 
-// Unique per process and call, so concurrent writers (threads or processes)
-// of the same target never share a temporary file.
-std::string temp_path_for(const std::string& path) {
-  static std::atomic<unsigned long> counter{0};
-  return path + ".tmp." + std::to_string(static_cast<long>(::getpid())) + "." +
-         std::to_string(counter.fetch_add(1));
-}
-
 std::string directory_of(const std::string& path) {
   const size_t slash = path.find_last_of('/');
   if (slash == std::string::npos) return ".";
   if (slash == 0) return "/";
   return path.substr(0, slash);
+}
+
+// The first write into a folder also clears what killed runs left there.
+std::string new_temp_path(const std::string& path) {
+  remove_dead_writers_temp_files(directory_of(path));
+  return temp_path_for(path);
 }
 
 void fsync_path(const std::string& path) {
@@ -68,7 +66,7 @@ void rename_over(const std::string& temp, const std::string& path) {
 }  // namespace
 
 void write_file_atomic(const std::string& path, std::string_view bytes) {
-  const std::string temp = temp_path_for(path);
+  const std::string temp = new_temp_path(path);
   const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
   if (fd < 0) {
     const int error = errno;
@@ -99,7 +97,7 @@ void write_file_atomic(const std::string& path, std::string_view bytes) {
 
 void write_file_atomic(const std::string& path,
                        const std::function<void(const std::string& temp_path)>& write) {
-  const std::string temp = temp_path_for(path);
+  const std::string temp = new_temp_path(path);
   try {
     write(temp);
     fsync_path(temp);

@@ -2,7 +2,9 @@
 // Atomic file output: data goes to a temporary file in the target's directory,
 // is flushed to disk, then renamed over the target. A reader (or a golden
 // test) therefore sees either the old file or the complete new one, never a
-// half-written file, even if the process dies mid-write.
+// half-written file, even if the process dies mid-write. What such a death
+// leaves (NAME.tmp.PID.N) is removed by the next process's first write into
+// that folder (temp_files.h).
 #include <functional>
 #include <string>
 #include <string_view>

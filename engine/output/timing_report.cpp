@@ -187,6 +187,7 @@ nlohmann::json report_to_json(const RunReport& report) {
   return {
       {"format", "cpurender-run-report"},
       {"version", 1},
+      {"status", report.status},
       {"scene", report.scene},
       {"profile", report.profile},
       {"resolution", {{"width", report.width}, {"height", report.height}}},

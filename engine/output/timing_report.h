@@ -42,6 +42,13 @@ struct BuildInfo {
 };
 
 struct RunReport {
+  // Whether the run finished: "running" while the render command renders
+  // (written before its first frame), "complete" when every frame and the
+  // trace are written, "failed: <message>" when it stopped on that error
+  // (`frames` then holds the frames written before it). A report left at
+  // "running" is a run that was killed or is still going. A report made
+  // after the fact (tests, tools) is complete.
+  std::string status = "complete";
   std::string scene;
   std::string profile;
   int width = 0;
