@@ -69,8 +69,9 @@ RunSetup load_run(const std::string& scene_path, const std::string& profile, con
   // Cheapest to know first: what the profile's frames and plugins need.
   estimate_frame_memory(s.profile, s.memory);
   for (const std::unique_ptr<Plugin>& plugin : registry.create_all())
-    plugin->estimate_memory(s.description, s.profile, s.memory);
+    if (plugin) plugin->estimate_memory(s.description, s.profile, s.memory);  // null: a section name only
   model.texture_decode_budget = size_t(s.profile.texture_decode_budget_mb) << 20;
+  model.memory = &s.memory;
   s.scene = std::make_shared<Scene>(load_gltf(s.description.gltf_path, model));
   pose_described_scene(*s.scene, s.description);  // the scene file's animation pose, else the rest pose
   s.threads = threads > 0 ? threads : JobSystem::default_thread_count();

@@ -6,14 +6,7 @@
 #include "engine/core/error.h"
 #include "engine/output/atomic_file.h"
 #include "engine/core/srgb.h"
-
-// Private copies of stb: libtinygltf.so also carries stb_image symbols, so
-// these are made file-local (static) to avoid clashing definitions.
-#define STB_IMAGE_STATIC
-#define STB_IMAGE_IMPLEMENTATION
-#define STBI_ONLY_PNG
-#define STBI_NO_STDIO
-#include <stb/stb_image.h>  // via /usr/include: a system header, so its warnings stay quiet
+#include "engine/output/image_decoding.h"
 
 #define STB_IMAGE_WRITE_STATIC
 #define STB_IMAGE_WRITE_IMPLEMENTATION
@@ -28,7 +21,8 @@ void append_bytes(void* context, void* data, int size) {
   out->append(static_cast<const char*>(data), static_cast<size_t>(size));
 }
 
-constexpr unsigned char kPngSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+// Golden and reference images: the engine renders at most 16384 per side.
+constexpr int kMaxPngEdge = 16384;
 
 }  // namespace
 
@@ -62,22 +56,26 @@ Image8 read_png(const std::string& path, int channels) {
   if (channels < 0 || channels > 4) throw Error("read_png: channels must be 0..4");
   const std::string bytes = read_file_bytes(path);
   if (bytes.empty()) throw InputError(path, "empty file, not a PNG image");
-  if (bytes.size() < sizeof(kPngSignature) ||
-      std::memcmp(bytes.data(), kPngSignature, sizeof(kPngSignature)) != 0)
-    throw InputError(path, "not a PNG file (bad signature)");
-  if (bytes.size() > static_cast<size_t>(INT_MAX)) throw InputError(path, "PNG file too large");
-  int width = 0, height = 0, file_channels = 0;
-  stbi_uc* pixels = stbi_load_from_memory(reinterpret_cast<const stbi_uc*>(bytes.data()),
-                                          static_cast<int>(bytes.size()), &width, &height,
-                                          &file_channels, channels);
-  if (!pixels) throw InputError(path, std::string("invalid PNG: ") + stbi_failure_reason());
+  DecodedImage decoded;
+  std::string error;
+  if (!decode_png(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size(), kMaxPngEdge, decoded, error))
+    throw InputError(path, "invalid PNG: " + error);
   Image8 image;
-  image.width = width;
-  image.height = height;
-  image.channels = channels != 0 ? channels : file_channels;
-  const size_t size = static_cast<size_t>(width) * height * image.channels;
-  image.data.assign(pixels, pixels + size);
-  stbi_image_free(pixels);
+  image.width = decoded.width;
+  image.height = decoded.height;
+  image.channels = channels != 0 ? channels : decoded.file_channels;
+  const size_t pixels = size_t(decoded.width) * size_t(decoded.height);
+  image.data.resize(pixels * size_t(image.channels));
+  for (size_t i = 0; i < pixels; ++i) {
+    const uint8_t* p = &decoded.rgba[4 * i];
+    uint8_t* q = &image.data[i * size_t(image.channels)];
+    if (image.channels >= 3) {
+      for (int c = 0; c < image.channels; ++c) q[c] = p[c];
+    } else {
+      q[0] = uint8_t((p[0] * 77u + p[1] * 150u + p[2] * 29u) >> 8);  // luma (grey files: the grey itself)
+      if (image.channels == 2) q[1] = p[3];
+    }
+  }
   return image;
 }
 

@@ -1,5 +1,6 @@
 #pragma once
-// PNG files (8 bits per channel) through stb_image / stb_image_write.
+// PNG files (8 bits per channel): read through libpng (image_decoding.h),
+// written through stb_image_write.
 #include <string>
 
 #include "engine/output/image.h"

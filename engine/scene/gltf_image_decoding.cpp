@@ -1,7 +1,8 @@
 #include "engine/scene/gltf_image_decoding.h"
 
 #include <algorithm>
-#include <cstring>
+
+#include "engine/output/image_decoding.h"
 
 namespace cr {
 
@@ -84,34 +85,23 @@ bool capture_gltf_image(tinygltf::Image* image, int image_index, std::string* er
 }
 
 bool decode_gltf_image(const tinygltf::Image& image, int image_index, MipLevel& out, std::string& error) {
-  tinygltf::Image decoded;
-  std::string warn;
-  if (!tinygltf::LoadImageData(&decoded, image_index, &error, &warn, image.width, image.height, image.image.data(),
-                               static_cast<int>(image.image.size()), nullptr)) {
-    while (!error.empty() && error.back() == '\n') error.pop_back();
-    if (error.empty()) error = "could not be decoded";
-    return false;
-  }
-  const size_t texels = static_cast<size_t>(decoded.width) * static_cast<size_t>(decoded.height);
-  const size_t bytes_per_channel = decoded.bits == 16 ? 2 : 1;
-  if (decoded.component != 4 || (decoded.bits != 8 && decoded.bits != 16) ||
-      decoded.image.size() != texels * 4 * bytes_per_channel) {
-    error = "decoded to inconsistent data";
+  (void)image_index;
+  const bool png = image.image[0] == 0x89;  // capture let only PNG and JPEG through
+  DecodedImage decoded;
+  std::string why;
+  const bool ok = png ? decode_png(image.image.data(), image.image.size(), kMaxImageEdge, decoded, why)
+                      : decode_jpeg(image.image.data(), image.image.size(), kMaxImageEdge, decoded, why);
+  // The header was read at capture, so it is the data that fails, or a size
+  // unlike the header's (memory was estimated from the header).
+  if (!ok || decoded.width != image.width || decoded.height != image.height) {
+    error = std::string("truncated or corrupt ") + (png ? "PNG" : "JPEG") + " data (its header gives " +
+            std::to_string(image.width) + "x" + std::to_string(image.height) + ", but the data does not decode" +
+            (ok ? " to that size)" : ": " + why + ")");
     return false;
   }
   out.width = decoded.width;
   out.height = decoded.height;
-  if (decoded.bits == 8) {
-    out.rgba = std::move(decoded.image);
-    return true;
-  }
-  out.rgba.resize(texels * 4);
-  for (size_t i = 0; i < texels * 4; ++i) {
-    // stb_image returns 16-bit samples in native byte order.
-    uint16_t v;
-    std::memcpy(&v, decoded.image.data() + 2 * i, 2);
-    out.rgba[i] = static_cast<uint8_t>((uint32_t(v) * 255u + 32767u) / 65535u);
-  }
+  out.rgba = std::move(decoded.rgba);
   return true;
 }
 

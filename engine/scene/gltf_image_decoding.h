@@ -28,7 +28,9 @@ bool capture_gltf_image(tinygltf::Image* image, int image_index, std::string* er
                         int req_width, int req_height, const unsigned char* bytes, int size, void* user);
 
 // Decodes a captured image to RGBA8 (16-bit channels rounded to 8 bits) with
-// tinygltf's stb_image decoder. Returns false with `error` set on failure.
+// libpng or libjpeg-turbo (engine/output/image_decoding.h), at the size its
+// header gives (so memory can be estimated from the header). Returns false
+// with `error` set on failure.
 bool decode_gltf_image(const tinygltf::Image& image, int image_index, MipLevel& out, std::string& error);
 
 }  // namespace cr

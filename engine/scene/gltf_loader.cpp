@@ -24,6 +24,15 @@ namespace fs = std::filesystem;
 
 // tinygltf takes sizes as unsigned int; stay well inside that.
 constexpr std::uintmax_t kMaxFileBytes = std::uintmax_t(2) << 30;
+// The JSON of a model (a .gltf file, or a GLB's JSON chunk), as the scene and
+// profile loaders cap theirs: geometry and images belong in buffers.
+constexpr size_t kMaxJsonBytes = size_t(64) << 20;
+// Memory one parsed JSON value costs during a load: its node in the
+// loader's document, in tinygltf's, and tinygltf's Value copy of extras and
+// extensions (8.4 million zeros in extras peaked at 1.8 GB).
+constexpr size_t kBytesPerJsonValue = 256;
+// How often the parse compares the values read so far with the budget.
+constexpr size_t kJsonValuesPerCheck = size_t(1) << 16;
 
 bool read_whole_file(const std::string& path, std::vector<unsigned char>& out, std::string& err) {
   std::error_code ec;
@@ -120,7 +129,13 @@ void validate_glb_layout(const std::string& path, const std::vector<unsigned cha
     throw InputError(path, "GLB JSON chunk of " + std::to_string(json_length) + " bytes does not fit in the file (truncated?)");
   }
   if (pos == size) return;  // no BIN chunk
-  if (pos + 8 > size) throw InputError(path, "GLB file is truncated inside the BIN chunk header");
+  // The header's length is the file's, so the BIN chunk (the only chunk that
+  // may come right after JSON) must start where the JSON chunk ends: when it
+  // does not, it is the JSON chunk's length that is wrong.
+  if (pos + 8 > size || read_le32(&b[pos + 4]) != 0x004E4942u) {  // "BIN\0"
+    throw InputError(path, "GLB JSON chunk length is wrong: its " + std::to_string(json_length) + " bytes end at byte " +
+                               std::to_string(pos) + ", where neither the file ends nor a BIN chunk header starts");
+  }
   uint64_t bin_length = read_le32(&b[pos]);
   if (pos + 8 + bin_length > size) {
     throw InputError(path, "GLB BIN chunk of " + std::to_string(bin_length) + " bytes extends past the end of the file (truncated?)");
@@ -135,19 +150,92 @@ std::string one_line(std::string s) {
   return s;
 }
 
-// The JSON document (a .gltf file, or a GLB's JSON chunk) parsed on its own,
-// so syntax errors carry the parser's position and types can be checked.
-nlohmann::json parse_gltf_json(const std::string& path, const unsigned char* begin, const unsigned char* end) {
-  // Depth first: tinygltf converts extras and extensions recursively.
-  const auto depth_limited = [&path](int depth, nlohmann::json::parse_event_t event, nlohmann::json&) {
-    check_json_depth(path, depth, event);
+// Builds the document as nlohmann::json::parse does, in the same single
+// pass refusing nesting deeper than kMaxJsonDepth (tinygltf converts extras
+// and extensions recursively) and, with a budget, values that would not fit
+// in it. (nlohmann's parse callback would do the depth check, but it scans
+// the parent container at every object's end: quadratic in objects.)
+class JsonBuilder final : public nlohmann::json_sax<nlohmann::json> {
+ public:
+  JsonBuilder(const std::string& path, const MemoryBudget* memory) : path_(path), memory_(memory) {}
+
+  nlohmann::json document;
+  size_t values() const { return values_; }
+
+  bool null() override { return add(nullptr); }
+  bool boolean(bool v) override { return add(v); }
+  bool number_integer(number_integer_t v) override { return add(v); }
+  bool number_unsigned(number_unsigned_t v) override { return add(v); }
+  bool number_float(number_float_t v, const string_t&) override { return add(v); }
+  bool string(string_t& v) override { return add(std::move(v)); }
+  bool binary(binary_t& v) override { return add(nlohmann::json::binary(std::move(v))); }  // not in JSON text
+  bool start_object(std::size_t) override { return open(nlohmann::json::object(), nlohmann::json::parse_event_t::object_start); }
+  bool key(string_t& k) override {
+    key_ = std::move(k);
     return true;
-  };
-  try {
-    return nlohmann::json::parse(begin, end, depth_limited);
-  } catch (const nlohmann::json::exception& e) {  // syntax, and numbers beyond double (1e999)
-    throw InputError(path, std::string("malformed glTF JSON: ") + e.what());
   }
+  bool end_object() override { return close(); }
+  bool start_array(std::size_t) override { return open(nlohmann::json::array(), nlohmann::json::parse_event_t::array_start); }
+  bool end_array() override { return close(); }
+  // Syntax errors and numbers beyond double (1e999); the text carries the position.
+  bool parse_error(std::size_t, const std::string&, const nlohmann::detail::exception& e) override {
+    throw InputError(path_, std::string("malformed glTF JSON: ") + e.what());
+  }
+
+ private:
+  // Places `v` in the innermost open container (or as the document) and returns where it went.
+  nlohmann::json& place(nlohmann::json&& v) {
+    if (++values_ % kJsonValuesPerCheck == 0 && memory_) {
+      memory_->require("glTF JSON (" + std::to_string(values_) + " values so far)", path_, "",
+                       values_ * kBytesPerJsonValue);
+    }
+    if (open_.empty()) return document = std::move(v);
+    nlohmann::json& parent = *open_.back();
+    if (parent.is_array()) {
+      parent.push_back(std::move(v));
+      return parent.back();
+    }
+    return parent[key_] = std::move(v);  // a repeated key keeps the last value, as nlohmann's parse does
+  }
+  bool add(nlohmann::json&& v) {
+    place(std::move(v));
+    return true;
+  }
+  bool open(nlohmann::json&& container, nlohmann::json::parse_event_t event) {
+    check_json_depth(path_, static_cast<int>(open_.size()), event);
+    // Only the innermost container grows, so pointers to the open ones stay valid.
+    open_.push_back(&place(std::move(container)));
+    return true;
+  }
+  bool close() {
+    open_.pop_back();
+    return true;
+  }
+
+  const std::string& path_;
+  const MemoryBudget* memory_;
+  std::vector<nlohmann::json*> open_;
+  std::string key_;
+  size_t values_ = 0;
+};
+
+// The JSON document (a .gltf file, or a GLB's JSON chunk) parsed on its own,
+// so syntax errors carry the parser's position and types can be checked; its
+// estimated memory is charged to `memory` when given.
+nlohmann::json parse_gltf_json(const std::string& path, const unsigned char* begin, const unsigned char* end,
+                               MemoryBudget* memory) {
+  const size_t bytes = static_cast<size_t>(end - begin);
+  if (bytes > kMaxJsonBytes) {
+    throw InputError(path, "glTF JSON is " + std::to_string(bytes) + " bytes, above the limit of " +
+                               std::to_string(kMaxJsonBytes) + " bytes (" + MemoryBudget::format_bytes(kMaxJsonBytes) + ")");
+  }
+  JsonBuilder builder(path, memory);
+  nlohmann::json::sax_parse(begin, end, &builder);
+  if (memory) {
+    memory->charge("glTF JSON (" + std::to_string(builder.values()) + " values)", path, "",
+                   builder.values() * kBytesPerJsonValue);
+  }
+  return std::move(builder.document);
 }
 
 // A URI's path with its %XX escapes decoded (RFC 3986), as a file name.
@@ -170,15 +258,22 @@ std::string decode_uri_path(const std::string& uri) {
   return out;
 }
 
-// External buffer files are required: one that is absent is named here
-// (tinygltf's own failure would only say the glTF is invalid).
+// Every buffer has a uri but a GLB's buffer 0 (its BIN chunk; tinygltf gives
+// that chunk to any buffer without one), and external buffer files are
+// required: one that is absent is named here (tinygltf's own failure would
+// only say the glTF is invalid).
 void check_buffer_files(const std::string& path, const nlohmann::json& doc, const std::string& base_dir,
-                        FileAccess& access) {
+                        FileAccess& access, bool glb) {
   auto buffers = doc.find("buffers");
   if (buffers == doc.end()) return;
   for (size_t i = 0; i < buffers->size(); ++i) {
     auto uri = (*buffers)[i].find("uri");
-    if (uri == (*buffers)[i].end() || uri->get<std::string>().rfind("data:", 0) == 0) continue;
+    if (uri == (*buffers)[i].end()) {
+      if (glb && i == 0) continue;
+      throw InputError(path, "invalid glTF: 'buffers[" + std::to_string(i) +
+                                 "]' has no uri; only buffer 0 of a GLB may leave it out (it is the BIN chunk)");
+    }
+    if (uri->get<std::string>().rfind("data:", 0) == 0) continue;
     const std::string name = decode_uri_path(uri->get<std::string>());
     const fs::path file = fs::path(base_dir) / name;
     if (!access.permits(file))
@@ -245,6 +340,50 @@ std::vector<unsigned char> glb_with_json(const std::vector<unsigned char>& glb, 
   return out;
 }
 
+// Buffers by their declared lengths (tinygltf checks the data against them),
+// held until the load ends alongside what is decoded from them.
+void charge_buffers(const std::string& path, const nlohmann::json& doc, MemoryBudget& memory) {
+  auto buffers = doc.find("buffers");
+  if (buffers == doc.end()) return;
+  for (size_t i = 0; i < buffers->size(); ++i) {
+    const size_t bytes = (*buffers)[i]["byteLength"].get<size_t>();
+    memory.charge("buffer " + std::to_string(i) + " (" + std::to_string(bytes) + " bytes)", path,
+                  "buffers[" + std::to_string(i) + "]", bytes);
+  }
+}
+
+// tinygltf leaves an image file it read as empty like one it could not find:
+// without bytes. Such images are recorded as failures, not missing files.
+void note_empty_image_files(const tinygltf::Model& model, const std::string& base_dir, ImageDecodeLog& log) {
+  for (size_t i = 0; i < model.images.size(); ++i) {
+    const tinygltf::Image& img = model.images[i];
+    if (!img.image.empty() || img.uri.empty() || img.uri.rfind("data:", 0) == 0) continue;
+    std::error_code ec;
+    const fs::path file = fs::path(base_dir) / decode_uri_path(img.uri);
+    if (fs::is_regular_file(file, ec) && fs::file_size(file, ec) == 0) {
+      log.failures.emplace(static_cast<int>(i), "the file is empty (0 bytes)");
+    }
+  }
+}
+
+// The scene's geometry, once built: its size follows from accessors that
+// the charged buffers bound.
+void charge_geometry(const std::string& path, const Scene& scene, MemoryBudget& memory) {
+  size_t vertices = 0, triangles = 0, bytes = 0;
+  for (const Mesh& mesh : scene.meshes) {
+    for (const Primitive& p : mesh.primitives) {
+      vertices += p.positions.size();
+      triangles += p.triangle_count();
+      bytes += p.positions.size() * sizeof(glm::vec3) + p.normals.size() * sizeof(glm::vec3) +
+               p.tangents.size() * sizeof(glm::vec4) + p.texcoords.size() * sizeof(glm::vec2) +
+               p.texcoords1.size() * sizeof(glm::vec2) + p.colors.size() * sizeof(glm::vec4) +
+               p.indices.size() * sizeof(uint32_t);
+    }
+  }
+  memory.charge("geometry (" + std::to_string(vertices) + " vertices, " + std::to_string(triangles) + " triangles)",
+                path, "meshes", bytes);
+}
+
 void warn_unsupported_extensions(const GltfContext& ctx) {
   for (const std::string& e : ctx.model.extensionsUsed) {
     if (!gltf_extension_supported(e)) ctx.warn("extension " + e + " is not supported and is ignored");
@@ -273,10 +412,12 @@ Scene load_gltf(const std::string& path, const GltfLoadOptions& options) {
   const bool glb = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
   if (glb) validate_glb_layout(path, bytes);
   const unsigned char* json = glb ? bytes.data() + 20 : bytes.data();
-  nlohmann::json doc = parse_gltf_json(path, json, glb ? json + read_le32(&bytes[12]) : bytes.data() + bytes.size());
+  nlohmann::json doc =
+      parse_gltf_json(path, json, glb ? json + read_le32(&bytes[12]) : bytes.data() + bytes.size(), options.memory);
   validate_gltf_schema(path, doc);
+  if (options.memory) charge_buffers(path, doc, *options.memory);
   const MeshoptDocument meshopt = prepare_meshopt_compression(path, doc);
-  check_buffer_files(path, doc, base_dir, access);
+  check_buffer_files(path, doc, base_dir, access, glb);
   const std::vector<DetachedIndices> detached = detach_dataless_indices(doc);
   if (meshopt.fallback_replaced || !detached.empty()) {
     const std::string edited = doc.dump();
@@ -290,6 +431,7 @@ Scene load_gltf(const std::string& path, const GltfLoadOptions& options) {
   if (!access.refused.empty()) throw InputError(path, access.refusal("a URI", access.refused));
   if (!ok) throw InputError(path, "invalid glTF: " + one_line(err.empty() ? warn : err));
   restore_indices(model, detached);
+  note_empty_image_files(model, base_dir, decode_log);
   if (model.asset.version.rfind("2.", 0) != 0) {
     throw InputError(path, "asset.version is \"" + model.asset.version + "\"; only glTF 2.x is supported");
   }
@@ -308,6 +450,7 @@ Scene load_gltf(const std::string& path, const GltfLoadOptions& options) {
   scene.images = std::move(materials.images);
   scene.meshes = std::move(meshes.meshes);
   place_nodes(ctx, meshes, scene);
+  if (options.memory) charge_geometry(path, scene, *options.memory);
   return scene;
 }
 

@@ -20,6 +20,7 @@
 // and tangents, unsupported extensions that are not required, ...).
 #include <string>
 
+#include "engine/core/memory_budget.h"
 #include "engine/scene/scene.h"
 
 namespace cr {
@@ -34,6 +35,11 @@ struct GltfLoadOptions {
   // Bytes of linear-float texture copies (image_texels.h) the loader may add:
   // images in file order are decoded while they fit, the rest stay RGBA8.
   size_t texture_decode_budget = size_t(512) << 20;
+  // When set, what the load holds is charged to it: the parsed JSON (checked
+  // while parsing), buffers and decoded images before they are allocated,
+  // the geometry once built. A model that needs more than its limit is
+  // refused with an InputError naming the field ("images[3]").
+  MemoryBudget* memory = nullptr;
 };
 
 Scene load_gltf(const std::string& path, const GltfLoadOptions& options = {});

@@ -1,5 +1,6 @@
 #include "engine/scene/gltf_materials.h"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <set>
@@ -171,13 +172,12 @@ Material convert_material(const GltfContext& ctx, TextureResolver& textures, con
   const tinygltf::PbrMetallicRoughness& pbr = src.pbrMetallicRoughness;
   Material m;
   m.name = src.name;
-  if (pbr.baseColorFactor.size() != 4) ctx.fail(label + " baseColorFactor must have 4 components");
+  // baseColorFactor has 4 components and emissiveFactor 3 (validate_gltf_schema).
   for (int c = 0; c < 4; ++c) {
     m.base_color_factor[c] = factor(ctx, pbr.baseColorFactor[c], 0.0, 1.0, label + " baseColorFactor");
   }
   m.metallic_factor = factor(ctx, pbr.metallicFactor, 0.0, 1.0, label + " metallicFactor");
   m.roughness_factor = factor(ctx, pbr.roughnessFactor, 0.0, 1.0, label + " roughnessFactor");
-  if (src.emissiveFactor.size() != 3) ctx.fail(label + " emissiveFactor must have 3 components");
   for (int c = 0; c < 3; ++c) {
     m.emissive_factor[c] = factor(ctx, src.emissiveFactor[c], 0.0, 1.0, label + " emissiveFactor");
   }
@@ -214,6 +214,17 @@ Material convert_material(const GltfContext& ctx, TextureResolver& textures, con
   m.alpha_cutoff = factor(ctx, src.alphaCutoff, 0.0, 1e6, label + " alphaCutoff");
   m.double_sided = src.doubleSided;
   return m;
+}
+
+// Texels of an image's mip chain, down to 1x1 as generate_mips builds it.
+size_t mip_chain_texels(size_t width, size_t height) {
+  size_t texels = width * height;
+  while (width > 1 || height > 1) {
+    width = std::max<size_t>(1, width / 2);
+    height = std::max<size_t>(1, height / 2);
+    texels += width * height;
+  }
+  return texels;
 }
 
 std::string join(const std::set<std::string>& items, const std::string& sep) {
@@ -259,8 +270,29 @@ GltfMaterials load_materials(const GltfContext& ctx, const ImageDecodeLog& decod
              "and their materials use their factors: " + list);
   }
 
+  // What each image will take, from its header's size (capture_gltf_image
+  // bounds it), charged before any is decoded: RGBA8 with its mips, and the
+  // linear floats (image_texels.h) of those texture_decode_budget lets
+  // through, in file order.
+  std::vector<bool> linear;
   size_t decoded = 0;
-  for (const auto& [source, srgb] : textures.sources()) {
+  for (const std::pair<int, bool>& used : textures.sources()) {
+    const int source = used.first;
+    const tinygltf::Image& img = m.images[source];
+    const size_t texels = mip_chain_texels(static_cast<size_t>(img.width), static_cast<size_t>(img.height));
+    const size_t float_bytes = texels * sizeof(glm::vec4);
+    linear.push_back(float_bytes <= options.texture_decode_budget - decoded);
+    if (linear.back()) decoded += float_bytes;
+    if (options.memory) {
+      options.memory->charge(gltf_label("image", source, img.name) + " (" + std::to_string(img.width) + "x" +
+                                 std::to_string(img.height) + " RGBA8" + (linear.back() ? " and linear floats" : "") +
+                                 " with mips)",
+                             ctx.path, "images[" + std::to_string(source) + "]",
+                             texels * 4 + (linear.back() ? float_bytes : 0));
+    }
+  }
+  for (size_t i = 0; i < textures.sources().size(); ++i) {
+    const auto& [source, srgb] = textures.sources()[i];
     const tinygltf::Image& img = m.images[source];
     Image image;
     image.name = !img.name.empty() ? img.name : (is_data_uri(img.uri) ? "image " + std::to_string(source) : img.uri);
@@ -273,11 +305,7 @@ GltfMaterials load_materials(const GltfContext& ctx, const ImageDecodeLog& decod
     }
     image.mips.push_back(std::move(base));
     generate_mips(image);
-    const size_t bytes = decoded_texel_bytes(image);
-    if (bytes <= options.texture_decode_budget - decoded) {
-      decode_texels(image);
-      decoded += bytes;
-    }
+    if (linear[i]) decode_texels(image);
     out.images.push_back(std::move(image));
   }
   return out;

@@ -1,6 +1,7 @@
 #include "engine/scene/gltf_morph.h"
 
 #include <cmath>
+#include <map>
 
 #include "engine/scene/gltf_accessors.h"
 
@@ -66,10 +67,18 @@ size_t mesh_target_count(const GltfContext& ctx, size_t mesh) {
   const tinygltf::Mesh& m = ctx.model.meshes[mesh];
   const std::string label = gltf_label("mesh", mesh, m.name);
   const size_t count = m.primitives.empty() ? 0 : m.primitives[0].targets.size();
-  for (size_t p = 1; p < m.primitives.size(); ++p) {
-    if (m.primitives[p].targets.size() != count) {
-      ctx.fail(label + " primitive " + std::to_string(p) + " has " + std::to_string(m.primitives[p].targets.size()) +
+  for (size_t p = 0; p < m.primitives.size(); ++p) {
+    const std::vector<std::map<std::string, int>>& targets = m.primitives[p].targets;
+    if (targets.size() != count) {
+      ctx.fail(label + " primitive " + std::to_string(p) + " has " + std::to_string(targets.size()) +
                " morph targets but primitive 0 has " + std::to_string(count) + " (all primitives must have the same)");
+    }
+    // Every primitive's, drawn or not: load_morph_targets reads only those
+    // of the primitives that are drawn (not points or lines).
+    for (size_t t = 0; t < targets.size(); ++t) {
+      for (const auto& [name, accessor] : targets[t]) {
+        check_accessor(ctx, accessor, label + " primitive " + std::to_string(p) + " target " + std::to_string(t) + " " + name);
+      }
     }
   }
   if (!m.weights.empty()) checked_weights(ctx, m.weights, count, label);

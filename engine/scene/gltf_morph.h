@@ -21,7 +21,8 @@ MorphTargets load_morph_targets(const GltfContext& ctx, const tinygltf::Primitiv
                                 const std::string& label);
 
 // The number of morph targets of mesh `mesh`: equal for all its primitives,
-// and the size of its "weights" when given (finite values).
+// and the size of its "weights" when given (finite values). The accessors of
+// every primitive's targets are checked, drawn or not.
 size_t mesh_target_count(const GltfContext& ctx, size_t mesh);
 
 // The rest weights of node `node` drawing a mesh with `target_count`

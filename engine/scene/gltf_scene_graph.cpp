@@ -27,21 +27,17 @@ bool all_finite(const std::vector<double>& v) {
 
 NodeTransform node_transform(const GltfContext& ctx, const tinygltf::Node& n, size_t index) {
   std::string label = gltf_label("node", index, n.name);
-  auto check = [&](const std::vector<double>& v, size_t size, const char* name) {
-    if (!v.empty() && v.size() != size) {
-      ctx.fail(label + " " + name + " has " + std::to_string(v.size()) + " values; expected " + std::to_string(size));
-    }
+  // Their sizes, and that a matrix comes without TRS, are checked on the JSON
+  // (validate_gltf_schema): tinygltf drops the TRS of a node with a matrix.
+  auto check = [&](const std::vector<double>& v, const char* name) {
     if (!all_finite(v)) ctx.fail(label + " " + name + " has a non-finite value");
   };
-  check(n.matrix, 16, "matrix");
-  check(n.translation, 3, "translation");
-  check(n.rotation, 4, "rotation");
-  check(n.scale, 3, "scale");
+  check(n.matrix, "matrix");
+  check(n.translation, "translation");
+  check(n.rotation, "rotation");
+  check(n.scale, "scale");
   NodeTransform t;
   if (!n.matrix.empty()) {
-    if (!n.translation.empty() || !n.rotation.empty() || !n.scale.empty()) {
-      ctx.fail(label + " has both matrix and translation/rotation/scale");
-    }
     t.matrix = glm::make_mat4(n.matrix.data());  // glTF matrices are column-major, like glm
     return t;
   }

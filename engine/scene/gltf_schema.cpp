@@ -1,5 +1,6 @@
 #include "engine/scene/gltf_schema.h"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <set>
@@ -11,14 +12,19 @@ namespace cr {
 
 namespace {
 
-enum class Kind { Uint, Number, Bool, String, Object, ArrayOfUint, ArrayOfNumber, ArrayOfString, ArrayOfObject, MapOfUint };
+enum class Kind {
+  Uint, Number, Bool, String, Object, ArrayOfUint, ArrayOfNumber, ArrayOfString, ArrayOfObject, MapOfUint,
+  ArrayOfMapOfUint
+};
 
-// One property: its name, JSON kind, and for objects the schema of the value.
+// One property: its name, JSON kind, for objects the schema of the value, and
+// for fixed-size arrays their size (tinygltf drops a baseColorFactor of 3).
 struct Property {
   const char* name;
   Kind kind;
   const char* schema = nullptr;
   bool required = false;
+  size_t size = 0;
 };
 
 // The core glTF 2.0 schema, reduced to what decides how a file is read.
@@ -37,13 +43,14 @@ const std::map<std::string, std::vector<Property>>& schemas() {
       {"scene", {{"name", Kind::String}, {"nodes", Kind::ArrayOfUint}}},
       {"node",
        {{"name", Kind::String}, {"children", Kind::ArrayOfUint}, {"mesh", Kind::Uint}, {"camera", Kind::Uint},
-        {"skin", Kind::Uint}, {"matrix", Kind::ArrayOfNumber}, {"rotation", Kind::ArrayOfNumber},
-        {"scale", Kind::ArrayOfNumber}, {"translation", Kind::ArrayOfNumber}, {"weights", Kind::ArrayOfNumber}}},
+        {"skin", Kind::Uint}, {"matrix", Kind::ArrayOfNumber, nullptr, false, 16},
+        {"rotation", Kind::ArrayOfNumber, nullptr, false, 4}, {"scale", Kind::ArrayOfNumber, nullptr, false, 3},
+        {"translation", Kind::ArrayOfNumber, nullptr, false, 3}, {"weights", Kind::ArrayOfNumber}}},
       {"mesh",
        {{"name", Kind::String}, {"primitives", Kind::ArrayOfObject, "primitive", true}, {"weights", Kind::ArrayOfNumber}}},
       {"primitive",
        {{"attributes", Kind::MapOfUint, nullptr, true}, {"indices", Kind::Uint}, {"material", Kind::Uint},
-        {"mode", Kind::Uint}, {"targets", Kind::ArrayOfObject, "any"}}},
+        {"mode", Kind::Uint}, {"targets", Kind::ArrayOfMapOfUint}}},
       {"accessor",
        {{"name", Kind::String}, {"bufferView", Kind::Uint}, {"byteOffset", Kind::Uint},
         {"componentType", Kind::Uint, nullptr, true}, {"normalized", Kind::Bool}, {"count", Kind::Uint, nullptr, true},
@@ -62,10 +69,10 @@ const std::map<std::string, std::vector<Property>>& schemas() {
       {"material",
        {{"name", Kind::String}, {"pbrMetallicRoughness", Kind::Object, "pbrMetallicRoughness"},
         {"normalTexture", Kind::Object, "textureInfo"}, {"occlusionTexture", Kind::Object, "textureInfo"},
-        {"emissiveTexture", Kind::Object, "textureInfo"}, {"emissiveFactor", Kind::ArrayOfNumber},
+        {"emissiveTexture", Kind::Object, "textureInfo"}, {"emissiveFactor", Kind::ArrayOfNumber, nullptr, false, 3},
         {"alphaMode", Kind::String}, {"alphaCutoff", Kind::Number}, {"doubleSided", Kind::Bool}}},
       {"pbrMetallicRoughness",
-       {{"baseColorFactor", Kind::ArrayOfNumber}, {"baseColorTexture", Kind::Object, "textureInfo"},
+       {{"baseColorFactor", Kind::ArrayOfNumber, nullptr, false, 4}, {"baseColorTexture", Kind::Object, "textureInfo"},
         {"metallicFactor", Kind::Number}, {"roughnessFactor", Kind::Number},
         {"metallicRoughnessTexture", Kind::Object, "textureInfo"}}},
       {"textureInfo",
@@ -94,7 +101,6 @@ const std::map<std::string, std::vector<Property>>& schemas() {
       {"perspective",
        {{"aspectRatio", Kind::Number}, {"yfov", Kind::Number, nullptr, true}, {"zfar", Kind::Number},
         {"znear", Kind::Number, nullptr, true}}},
-      {"any", {}},
   };
   return s;
 }
@@ -111,6 +117,7 @@ const char* kind_name(Kind k) {
     case Kind::ArrayOfString: return "an array of strings";
     case Kind::ArrayOfObject: return "an array of objects";
     case Kind::MapOfUint: return "an object of non-negative integers";
+    case Kind::ArrayOfMapOfUint: return "an array of objects of non-negative integers";
   }
   return "";
 }
@@ -176,7 +183,8 @@ class SchemaChecker {
       case Kind::ArrayOfUint:
       case Kind::ArrayOfNumber:
       case Kind::ArrayOfString:
-      case Kind::ArrayOfObject: {
+      case Kind::ArrayOfObject:
+      case Kind::ArrayOfMapOfUint: {
         expect(v.is_array(), v, p, field);
         for (size_t i = 0; i < v.size(); ++i) {
           const nlohmann::json& e = v[i];
@@ -187,15 +195,25 @@ class SchemaChecker {
           std::string item = field + "[" + std::to_string(i) + "]";
           if (!ok) fail(item, "must be " + std::string(element_name(p.kind)) + ", found " + e.dump().substr(0, 60));
           if (p.kind == Kind::ArrayOfObject) object(e, p.schema, item);
+          if (p.kind == Kind::ArrayOfMapOfUint) uints(e, item);
+        }
+        if (p.size != 0 && v.size() != p.size) {
+          fail(field, "must be an array of " + std::to_string(p.size) + " numbers, found " + v.dump().substr(0, 60));
         }
         break;
       }
       case Kind::MapOfUint:
         expect(v.is_object(), v, p, field);
-        for (auto e = v.begin(); e != v.end(); ++e) {
-          if (!is_uint(*e)) fail(field + "." + e.key(), "must be a non-negative integer, found " + e->dump().substr(0, 60));
-        }
+        uints(v, field);
         break;
+    }
+  }
+
+  // tinygltf drops a member that is not an integer (a morph target's
+  // "POSITION": 0.5), so the file would lose it silently.
+  void uints(const nlohmann::json& map, const std::string& field) const {
+    for (auto e = map.begin(); e != map.end(); ++e) {
+      if (!is_uint(*e)) fail(field + "." + e.key(), "must be a non-negative integer, found " + e->dump().substr(0, 60));
     }
   }
 
@@ -226,6 +244,63 @@ void check_buffer_views(const std::string& path, const nlohmann::json& doc) {
   }
 }
 
+// A node's transform is a matrix or TRS, never both: tinygltf reads the
+// matrix and drops the TRS, so the loader could not see the conflict.
+void check_node_transforms(const std::string& path, const nlohmann::json& doc) {
+  auto nodes = doc.find("nodes");
+  if (nodes == doc.end()) return;
+  for (size_t i = 0; i < nodes->size(); ++i) {
+    const nlohmann::json& n = (*nodes)[i];
+    if (!n.contains("matrix")) continue;
+    for (const char* trs : {"translation", "rotation", "scale"}) {
+      if (n.contains(trs)) {
+        throw InputError(path, "invalid glTF: 'nodes[" + std::to_string(i) + "]' has both 'matrix' and '" + trs +
+                                   "'; a node's transform is either a matrix or translation/rotation/scale");
+      }
+    }
+  }
+}
+
+bool is_base64(char c) {
+  return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '+' || c == '/';
+}
+
+// The data URIs of doc[array] must be base64 of one of `types`, with nothing
+// after the data. tinygltf decodes any type it knows anywhere (a buffer of
+// image/png), takes other types for file names, and stops decoding at the
+// first character that is not base64, dropping the rest unseen.
+void check_data_uris(const std::string& path, const nlohmann::json& doc, const char* array,
+                     const std::vector<std::string>& types, const char* whose) {
+  auto items = doc.find(array);
+  if (items == doc.end()) return;
+  for (size_t i = 0; i < items->size(); ++i) {
+    auto it = (*items)[i].find("uri");
+    if (it == (*items)[i].end() || it->get<std::string>().rfind("data:", 0) != 0) continue;
+    const std::string& uri = it->get_ref<const std::string&>();
+    const std::string field = std::string(array) + "[" + std::to_string(i) + "].uri";
+    const auto fail = [&](const std::string& what) { throw InputError(path, "invalid glTF: '" + field + "' " + what); };
+    const size_t comma = uri.find(',');
+    const std::string base64 = ";base64";
+    if (comma == std::string::npos || comma < 5 + base64.size() || uri.compare(comma - base64.size(), base64.size(), base64) != 0) {
+      fail("is a data URI without \";base64,\"; glTF data URIs must be base64");
+    }
+    const std::string type = uri.substr(5, comma - base64.size() - 5);
+    if (std::find(types.begin(), types.end(), type) == types.end()) {
+      std::string allowed;
+      for (const std::string& t : types) allowed += (allowed.empty() ? "" : " or ") + t;
+      fail("is a data URI of type " + type + "; " + whose + " must be " + allowed);
+    }
+    size_t end = comma + 1;
+    while (end < uri.size() && is_base64(uri[end])) ++end;
+    for (int pad = 0; pad < 2 && end < uri.size() && uri[end] == '='; ++pad) ++end;
+    if (end == uri.size()) continue;
+    const size_t extra = uri.size() - end;
+    const std::string shown = extra > 20 ? uri.substr(end, 20) + "..." : uri.substr(end);
+    fail("has " + std::to_string(extra) + " characters after its base64 data: " +
+         nlohmann::json(shown).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace));
+  }
+}
+
 }  // namespace
 
 bool gltf_extension_supported(const std::string& name) {
@@ -247,6 +322,9 @@ void validate_gltf_schema(const std::string& path, const nlohmann::json& doc) {
   if (!doc.is_object()) throw InputError(path, "invalid glTF: the document must be a JSON object");
   SchemaChecker(path).object(doc, "glTF", "");
   check_buffer_views(path, doc);
+  check_node_transforms(path, doc);
+  check_data_uris(path, doc, "buffers", {"application/octet-stream", "application/gltf-buffer"}, "a buffer's");
+  check_data_uris(path, doc, "images", {"image/png", "image/jpeg"}, "an image's");
   if (auto req = doc.find("extensionsRequired"); req != doc.end()) {
     for (const nlohmann::json& e : *req) {
       std::string name = e.get<std::string>();
