@@ -3,10 +3,10 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <set>
 #include <sstream>
 
 #include "engine/core/error.h"
+#include "engine/core/json_builder.h"
 
 namespace cr {
 
@@ -42,30 +42,9 @@ nlohmann::json load_json_file(const std::string& path) {
   if (!in.read(text.data(), size)) throw InputError(path, "cannot read file");
   // nlohmann keeps the last of repeated keys silently; a repeated key in an
   // input file is almost always an editing mistake, so it is an error.
-  std::vector<std::set<std::string>> open_objects;
-  std::string duplicate;
-  auto check_keys = [&](int depth, nlohmann::json::parse_event_t event, nlohmann::json& parsed) {
-    check_json_depth(path, depth, event);
-    if (event == nlohmann::json::parse_event_t::object_start) {
-      open_objects.emplace_back();
-    } else if (event == nlohmann::json::parse_event_t::object_end) {
-      open_objects.pop_back();
-    } else if (event == nlohmann::json::parse_event_t::key && duplicate.empty() &&
-               !open_objects.back().insert(parsed.get<std::string>()).second) {
-      duplicate = parsed.get<std::string>();
-    }
-    return true;
-  };
-  try {
-    nlohmann::json doc = nlohmann::json::parse(text, check_keys);
-    if (!duplicate.empty()) throw InputError(path, "key '" + duplicate + "' appears twice in one object");
-    return doc;
-  } catch (const nlohmann::json::parse_error& e) {
-    // e.what() carries "at line L, column C".
-    throw InputError(path, std::string("malformed JSON: ") + e.what());
-  } catch (const nlohmann::json::out_of_range& e) {  // a number beyond double, e.g. 1e999
-    throw InputError(path, std::string("malformed JSON: ") + e.what());
-  }
+  JsonBuildOptions options;
+  options.reject_duplicate_keys = true;
+  return build_json(text.data(), text.data() + text.size(), path, options);
 }
 
 void check_json_depth(const std::string& path, int depth, nlohmann::json::parse_event_t event) {

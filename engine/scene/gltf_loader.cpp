@@ -6,6 +6,7 @@
 #include <fstream>
 
 #include "engine/core/error.h"
+#include "engine/core/json_builder.h"
 #include "engine/core/json_input.h"
 #include "engine/scene/gltf_context.h"
 #include "engine/scene/gltf_draco.h"
@@ -150,75 +151,6 @@ std::string one_line(std::string s) {
   return s;
 }
 
-// Builds the document as nlohmann::json::parse does, in the same single
-// pass refusing nesting deeper than kMaxJsonDepth (tinygltf converts extras
-// and extensions recursively) and, with a budget, values that would not fit
-// in it. (nlohmann's parse callback would do the depth check, but it scans
-// the parent container at every object's end: quadratic in objects.)
-class JsonBuilder final : public nlohmann::json_sax<nlohmann::json> {
- public:
-  JsonBuilder(const std::string& path, const MemoryBudget* memory) : path_(path), memory_(memory) {}
-
-  nlohmann::json document;
-  size_t values() const { return values_; }
-
-  bool null() override { return add(nullptr); }
-  bool boolean(bool v) override { return add(v); }
-  bool number_integer(number_integer_t v) override { return add(v); }
-  bool number_unsigned(number_unsigned_t v) override { return add(v); }
-  bool number_float(number_float_t v, const string_t&) override { return add(v); }
-  bool string(string_t& v) override { return add(std::move(v)); }
-  bool binary(binary_t& v) override { return add(nlohmann::json::binary(std::move(v))); }  // not in JSON text
-  bool start_object(std::size_t) override { return open(nlohmann::json::object(), nlohmann::json::parse_event_t::object_start); }
-  bool key(string_t& k) override {
-    key_ = std::move(k);
-    return true;
-  }
-  bool end_object() override { return close(); }
-  bool start_array(std::size_t) override { return open(nlohmann::json::array(), nlohmann::json::parse_event_t::array_start); }
-  bool end_array() override { return close(); }
-  // Syntax errors and numbers beyond double (1e999); the text carries the position.
-  bool parse_error(std::size_t, const std::string&, const nlohmann::detail::exception& e) override {
-    throw InputError(path_, std::string("malformed glTF JSON: ") + e.what());
-  }
-
- private:
-  // Places `v` in the innermost open container (or as the document) and returns where it went.
-  nlohmann::json& place(nlohmann::json&& v) {
-    if (++values_ % kJsonValuesPerCheck == 0 && memory_) {
-      memory_->require("glTF JSON (" + std::to_string(values_) + " values so far)", path_, "",
-                       values_ * kBytesPerJsonValue);
-    }
-    if (open_.empty()) return document = std::move(v);
-    nlohmann::json& parent = *open_.back();
-    if (parent.is_array()) {
-      parent.push_back(std::move(v));
-      return parent.back();
-    }
-    return parent[key_] = std::move(v);  // a repeated key keeps the last value, as nlohmann's parse does
-  }
-  bool add(nlohmann::json&& v) {
-    place(std::move(v));
-    return true;
-  }
-  bool open(nlohmann::json&& container, nlohmann::json::parse_event_t event) {
-    check_json_depth(path_, static_cast<int>(open_.size()), event);
-    // Only the innermost container grows, so pointers to the open ones stay valid.
-    open_.push_back(&place(std::move(container)));
-    return true;
-  }
-  bool close() {
-    open_.pop_back();
-    return true;
-  }
-
-  const std::string& path_;
-  const MemoryBudget* memory_;
-  std::vector<nlohmann::json*> open_;
-  std::string key_;
-  size_t values_ = 0;
-};
-
 // The JSON document (a .gltf file, or a GLB's JSON chunk) parsed on its own,
 // so syntax errors carry the parser's position and types can be checked; its
 // estimated memory is charged to `memory` when given.
@@ -229,13 +161,22 @@ nlohmann::json parse_gltf_json(const std::string& path, const unsigned char* beg
     throw InputError(path, "glTF JSON is " + std::to_string(bytes) + " bytes, above the limit of " +
                                std::to_string(kMaxJsonBytes) + " bytes (" + MemoryBudget::format_bytes(kMaxJsonBytes) + ")");
   }
-  JsonBuilder builder(path, memory);
-  nlohmann::json::sax_parse(begin, end, &builder);
+  // Parsed with the depth limit (tinygltf converts extras and extensions
+  // recursively) and, with a budget, refused as soon as its values would not fit.
+  JsonBuildOptions options;
+  options.label = "glTF JSON";
+  options.check_every = kJsonValuesPerCheck;
   if (memory) {
-    memory->charge("glTF JSON (" + std::to_string(builder.values()) + " values)", path, "",
-                   builder.values() * kBytesPerJsonValue);
+    options.on_values = [&](size_t values) {
+      memory->require("glTF JSON (" + std::to_string(values) + " values so far)", path, "", values * kBytesPerJsonValue);
+    };
   }
-  return std::move(builder.document);
+  size_t values = 0;
+  nlohmann::json doc = build_json(reinterpret_cast<const char*>(begin), reinterpret_cast<const char*>(end), path,
+                                  options, &values);
+  if (memory)
+    memory->charge("glTF JSON (" + std::to_string(values) + " values)", path, "", values * kBytesPerJsonValue);
+  return doc;
 }
 
 // A URI's path with its %XX escapes decoded (RFC 3986), as a file name.
