@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The test command of the README: set-up, release build, all tests; then the
 # unit tests under AddressSanitizer+UndefinedBehaviorSanitizer and the
-# threading tests under ThreadSanitizer.
+# threading tests under ThreadSanitizer; then a short run of each fuzz target
+# (clang, libFuzzer: tests/fuzz, docs/fuzzing.md).
 #   tests/run_all.sh            everything (what CI runs)
 #   tests/run_all.sh --quick    release build and tests only
 set -euo pipefail
@@ -42,3 +43,6 @@ ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:ha
 echo "== ThreadSanitizer (job system, frame graph, determinism across thread counts)"
 TSAN_OPTIONS=halt_on_error=1 build_and_test build-tsan Sanitize thread \
   "scene_assets test_core test_render test_raster test_fog test_atmosphere" -R "threading|determinism|bit-identical"
+
+echo "== fuzzing: each libFuzzer target for 20 s from the seed corpus, fixed seed (docs/fuzzing.md)"
+CR_FUZZ_BUILD_JOBS=$jobs ./tests/fuzz/run_fuzz.sh --ci 20
