@@ -119,6 +119,13 @@ AnimationSpec parse_animation(const JsonObject& o) {
   return a;
 }
 
+// A file that cannot even be looked up (a name too long, a component not a
+// folder, no permission) counts as absent: the caller names what it looked for.
+bool is_file(const fs::path& p) {
+  std::error_code ec;
+  return fs::is_regular_file(p, ec);
+}
+
 }  // namespace
 
 float emissive_luminance(const SceneDescription& d) {
@@ -131,7 +138,7 @@ SceneDescription load_scene_description(const std::string& path,
   SceneDescription d;
   d.path = path;
   if (has_gltf_extension(path)) {
-    if (!fs::is_regular_file(path)) throw InputError(path, "glTF file not found");
+    if (!is_file(path)) throw InputError(path, "glTF file not found");
     d.gltf_path = path;
     d.sun.from_gltf = true;
     // A bare model gets a daylight fill so its shadowed side is readable at
@@ -152,12 +159,12 @@ SceneDescription load_scene_description(const std::string& path,
       d.gltf_path = p.is_absolute() ? p.string() : (fs::path(path).parent_path() / p).string();
       if (!has_gltf_extension(d.gltf_path)) root.fail(key, "must name a .gltf or .glb file, found \"" + rel + "\"");
       std::string looked_in = d.gltf_path;
-      for (size_t i = 0; !p.is_absolute() && !fs::is_regular_file(d.gltf_path) && i < asset_dirs.size(); ++i) {
+      for (size_t i = 0; !p.is_absolute() && !is_file(d.gltf_path) && i < asset_dirs.size(); ++i) {
         const std::string candidate = (fs::path(asset_dirs[i]) / p).string();
         looked_in += ", " + candidate;
-        if (fs::is_regular_file(candidate)) d.gltf_path = candidate;
+        if (is_file(candidate)) d.gltf_path = candidate;
       }
-      if (!fs::is_regular_file(d.gltf_path)) root.fail(key, "names a file that does not exist (looked for " + looked_in + ")");
+      if (!is_file(d.gltf_path)) root.fail(key, "names a file that does not exist (looked for " + looked_in + ")");
     } else if (key == "camera") {
       d.camera = parse_camera(root.object("camera"));
     } else if (key == "sun") {

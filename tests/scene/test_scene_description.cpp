@@ -167,3 +167,14 @@ TEST_CASE("scene file animation key: by index or name, with a time; strict") {
   CHECK(bad("animation_name_number.json", {{"name", 3}}).find("'animation.name'") != std::string::npos);
   CHECK(bad("animation_not_object.json", 3).find("'animation'") != std::string::npos);
 }
+
+// Found by fuzz_scene: a 'gltf' name longer than a file name may be made
+// std::filesystem throw filesystem_error ("File name too long") past the loader.
+TEST_CASE("a scene whose gltf name cannot be looked up says the file does not exist") {
+  const std::string path = kBad + "/fuzz_scene_gltf_name_too_long.json";
+  CHECK(error_of(path).find(path + ": 'gltf' names a file that does not exist (looked for ") == 0);
+  const std::string too_long = write_scene("long_name.json", {{"gltf", std::string(5000, 'a') + ".glb"}});
+  CHECK(error_of(too_long).find("'gltf' names a file that does not exist") != std::string::npos);
+  const std::string through_file = write_scene("through_file.json", {{"gltf", "scene_box.gltf/inner.glb"}});
+  CHECK(error_of(through_file).find("'gltf' names a file that does not exist") != std::string::npos);
+}
