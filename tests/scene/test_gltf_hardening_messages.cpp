@@ -2,6 +2,7 @@
 // "missing", a truncated PNG an "Unknown image format", and a GLB whose JSON
 // chunk length is wrong blamed its BIN chunk. Each now gets an exact message
 // naming the file.
+#include <chrono>
 #include <string>
 
 #include <doctest/doctest.h>
@@ -49,7 +50,6 @@ TEST_CASE("fuzz findings: a JPEG Huffman table of more than 256 codes and PNG ID
   const std::string dht_msg = rejection(dht);
   CHECK(dht_msg.find(dht + ": image 0") == 0);
   CHECK(dht_msg.find("truncated or corrupt JPEG data") != std::string::npos);
-  CHECK(dht_msg.find("Bogus Huffman table definition") != std::string::npos);
   for (const char* name : {"fuzz_image_png_idat_length_past_end.gltf", "fuzz_image_png_empty_idat_memcpy_null.gltf"}) {
     const std::string path = bad(name);
     const std::string msg = rejection(path);
@@ -70,4 +70,17 @@ TEST_CASE("a GLB whose JSON chunk length is wrong blames the JSON chunk, not the
     CHECK(rejection(path) == path + ": GLB JSON chunk length is wrong: its 436 bytes end at byte 456, where neither "
                                     "the file ends nor a BIN chunk header starts");
   }
+}
+
+// Found by fuzz_image in a 10-minute run: 1.4 KB of JPEG whose frame header
+// says 11536x15121 and whose data ends at once; libjpeg filled the rest with
+// grey, so decoding and mipmapping took over a minute.
+TEST_CASE("fuzz findings: a JPEG whose data ends early is refused as truncated, before the image is decoded") {
+  const std::string path = bad("fuzz_image_jpeg_truncated_huge.gltf");
+  const auto t0 = std::chrono::steady_clock::now();
+  const std::string msg = rejection(path);
+  const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  CHECK(msg == path + ": image 0: truncated or corrupt JPEG data (its header gives 11536x15121, but the data does not "
+                      "decode: JPEG data is truncated)");
+  CHECK(s < 5.0);
 }
