@@ -12,22 +12,12 @@
 #include "engine/core/error.h"
 #include "engine/core/memory_budget.h"
 #include "engine/scene/gltf_loader.h"
+#include "tests/scene/gltf_rejection.h"
 #include "tests/scene/gltf_test_builder.h"
 
 namespace {
 
 constexpr size_t kGiB = size_t(1) << 30;
-
-// The message of the InputError loading `path` throws, "" when it loads.
-std::string rejection(const std::string& path, const cr::GltfLoadOptions& options = {}) {
-  try {
-    (void)cr::load_gltf(path, options);
-  } catch (const cr::InputError& e) {
-    CHECK(e.file() == path);
-    return e.what();
-  }
-  return "";
-}
 
 std::string write_text(const std::string& name, const std::string& text) {
   const std::string path = cr::test::test_output_dir() + "/" + name;
@@ -45,7 +35,7 @@ TEST_CASE("8 images sharing one 33-byte PNG header of 16384x16384 are refused be
   cr::MemoryBudget budget(5 * kGiB);
   cr::GltfLoadOptions options;
   options.memory = &budget;
-  CHECK(rejection(path, options) ==
+  CHECK(cr::test::gltf_rejection(path, options) ==
         path + ": images[3] (image 3 (16384x16384 RGBA8 with mips)) needs 1.33 GiB, on top of 4.00 GiB already "
                "estimated, beyond the memory limit of 5.00 GiB (lower it in the file, or raise the limit with "
                "--memory-limit)");
@@ -92,7 +82,7 @@ TEST_CASE("a buffer's declared length is charged before tinygltf reads it") {
   cr::MemoryBudget budget(kGiB);
   cr::GltfLoadOptions options;
   options.memory = &budget;
-  CHECK(rejection(path, options) ==
+  CHECK(cr::test::gltf_rejection(path, options) ==
         path + ": buffers[0] (buffer 0 (1500000000 bytes)) needs 1.40 GiB, on top of 2 KiB already estimated, beyond "
                "the memory limit of 1.00 GiB (lower it in the file, or raise the limit with --memory-limit)");
 }
@@ -105,7 +95,7 @@ TEST_CASE("the parsed JSON is estimated while it is parsed: 512k zeros in extras
   cr::MemoryBudget budget(size_t(64) << 20);
   cr::GltfLoadOptions options;
   options.memory = &budget;
-  CHECK(rejection(path, options) ==
+  CHECK(cr::test::gltf_rejection(path, options) ==
         path + ": glTF JSON (327680 values so far) needs 80.0 MiB beyond the memory limit of 64.0 MiB (lower it in "
                "the file, or raise the limit with --memory-limit)");
   CHECK(budget.total() == 0);
@@ -114,6 +104,6 @@ TEST_CASE("the parsed JSON is estimated while it is parsed: 512k zeros in extras
 TEST_CASE("glTF JSON above 64 MiB is refused before it is parsed") {
   const std::string head = R"({"asset": {"version": "2.0"}})";
   const std::string path = write_text("hardening_json_above_cap.gltf", head + std::string((size_t(64) << 20) + 1 - head.size(), ' '));
-  CHECK(rejection(path) == path + ": glTF JSON is 67108865 bytes, above the limit of 67108864 bytes (64.0 MiB)");
+  CHECK(cr::test::gltf_rejection(path) == path + ": glTF JSON is 67108865 bytes, above the limit of 67108864 bytes (64.0 MiB)");
   std::filesystem::remove(path);
 }
