@@ -34,6 +34,10 @@ constexpr size_t kMaxJsonBytes = size_t(64) << 20;
 constexpr size_t kBytesPerJsonValue = 256;
 // How often the parse compares the values read so far with the budget.
 constexpr size_t kJsonValuesPerCheck = size_t(1) << 16;
+// Values a model's JSON may hold: 4 million is a scene of 300,000 nodes with
+// room to spare, and keeps a load within seconds (tinygltf converts every
+// value again; 30 million zeros in extras took 6 GB and 44 s).
+constexpr size_t kMaxJsonValues = size_t(1) << 22;
 
 bool read_whole_file(const std::string& path, std::vector<unsigned char>& out, std::string& err) {
   std::error_code ec;
@@ -166,14 +170,20 @@ nlohmann::json parse_gltf_json(const std::string& path, const unsigned char* beg
   JsonBuildOptions options;
   options.label = "glTF JSON";
   options.check_every = kJsonValuesPerCheck;
-  if (memory) {
-    options.on_values = [&](size_t values) {
+  auto check_count = [&](size_t values) {
+    if (values > kMaxJsonValues)
+      throw InputError(path, "glTF JSON holds more than " + std::to_string(kMaxJsonValues) +
+                                 " values (numbers, strings, arrays, objects); geometry and images belong in buffers");
+  };
+  options.on_values = [&](size_t values) {
+    check_count(values);
+    if (memory)
       memory->require("glTF JSON (" + std::to_string(values) + " values so far)", path, "", values * kBytesPerJsonValue);
-    };
-  }
+  };
   size_t values = 0;
   nlohmann::json doc = build_json(reinterpret_cast<const char*>(begin), reinterpret_cast<const char*>(end), path,
                                   options, &values);
+  check_count(values);  // the last values since the parse's last check
   if (memory)
     memory->charge("glTF JSON (" + std::to_string(values) + " values)", path, "", values * kBytesPerJsonValue);
   return doc;

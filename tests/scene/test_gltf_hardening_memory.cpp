@@ -107,3 +107,17 @@ TEST_CASE("glTF JSON above 64 MiB is refused before it is parsed") {
   CHECK(cr::test::gltf_rejection(path) == path + ": glTF JSON is 67108865 bytes, above the limit of 67108864 bytes (64.0 MiB)");
   std::filesystem::remove(path);
 }
+
+TEST_CASE("glTF JSON of more than 2^22 values is refused while it is parsed") {
+  // 30 million zeros in extras took 6 GB and 44 s to load under a large memory limit.
+  std::string text = R"({"asset": {"version": "2.0"}, "extras": [)";
+  const size_t zeros = (size_t(1) << 22) + 100;
+  text.reserve(text.size() + 2 * zeros + 2);
+  for (size_t i = 0; i < zeros; ++i) text += i ? ",0" : "0";
+  text += "]}";
+  const std::string path = write_text("hardening_json_values.gltf", text);
+  CHECK(cr::test::gltf_rejection(path) ==
+        path + ": glTF JSON holds more than 4194304 values (numbers, strings, arrays, objects); geometry and images "
+               "belong in buffers");
+  std::filesystem::remove(path);
+}
