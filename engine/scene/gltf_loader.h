@@ -3,7 +3,7 @@
 // validated Scene. Every malformed input is rejected with one InputError naming
 // the file and what is wrong; nothing is rendered from a half-checked file.
 //
-// What is loaded (README "glTF support" has the full table): the default
+// What is loaded (docs/scene.md has the full table): the default
 // scene (or scene 0; with no scenes, every root node), node transforms,
 // triangle primitives (strips and fans converted to lists; points and lines
 // skipped), sparse, quantized (KHR_mesh_quantization), Draco and meshopt

@@ -304,7 +304,7 @@ void check_data_uris(const std::string& path, const nlohmann::json& doc, const c
 }  // namespace
 
 bool gltf_extension_supported(const std::string& name) {
-  // One line per extension (README: "glTF support").
+  // One line per extension (docs/scene.md: "Supported").
   static const std::set<std::string> supported = {
       "KHR_lights_punctual",
       "EXT_mesh_gpu_instancing",

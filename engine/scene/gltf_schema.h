@@ -14,7 +14,7 @@
 
 namespace cr {
 
-// The extensions the loader implements (the set in gltf_schema.cpp; README "glTF support").
+// The extensions the loader implements (the set in gltf_schema.cpp; docs/scene.md "Supported").
 bool gltf_extension_supported(const std::string& name);
 
 // Throws InputError(path, "... 'meshes[0].primitives' must be an array ...").
