@@ -32,17 +32,22 @@ build_and_test() {  # dir, build type, sanitizer, "targets" (empty = all), ctest
   (cd "$dir" && ctest --output-on-failure -j"$jobs" "$@")
 }
 
-echo "== release build and all tests"
-build_and_test build Release "" ""
-[ "${1:-}" = "--quick" ] && exit 0
+# Each stage prints the seconds since the start, so a slow CI run shows where
+# its time went.
+stage() { echo "== [${SECONDS} s] $*"; }
 
-echo "== AddressSanitizer + UndefinedBehaviorSanitizer"
+stage "release build and all tests"
+build_and_test build Release "" ""
+[ "${1:-}" = "--quick" ] && { stage "release stage passed"; exit 0; }
+
+stage "AddressSanitizer + UndefinedBehaviorSanitizer"
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
   build_and_test build-asan Sanitize "address,undefined" "" -LE "slow"
 
-echo "== ThreadSanitizer (job system, frame graph, determinism across thread counts)"
+stage "ThreadSanitizer (job system, frame graph, determinism across thread counts)"
 TSAN_OPTIONS=halt_on_error=1 build_and_test build-tsan Sanitize thread \
   "scene_assets test_core test_render test_raster test_fog test_atmosphere" -R "threading|determinism|bit-identical"
 
-echo "== fuzzing: each libFuzzer target for 20 s from the seed corpus, fixed seed (docs/fuzzing.md)"
+stage "fuzzing: each libFuzzer target for 20 s from the seed corpus, fixed seed (docs/fuzzing.md)"
 CR_FUZZ_BUILD_JOBS=$jobs ./tests/fuzz/run_fuzz.sh --ci 20
+stage "all stages passed"
