@@ -4,7 +4,7 @@
 #include <iostream>
 
 #include "atmosphere/atmosphere_memory.h"
-#include "atmosphere/sky_commands.h"
+#include "engine/render/plugin_registry.h"
 #include "atmosphere/sky_composite.h"
 #include "atmosphere/sky_lighting.h"
 #include "engine/render/frame_graph.h"
@@ -114,7 +114,6 @@ void AtmospherePlugin::report_frame(nlohmann::json& frame) {
 
 void register_atmosphere_plugin(PluginRegistry& registry) {
   registry.add("atmosphere", [] { return std::make_unique<AtmospherePlugin>(); });
-  register_sky_commands(registry);
 }
 
 }  // namespace cr

@@ -27,6 +27,8 @@
 
 namespace cr {
 
+class PluginRegistry;
+
 class AtmospherePlugin : public Plugin {
  public:
   std::string name() const override { return "atmosphere"; }
@@ -55,7 +57,7 @@ class AtmospherePlugin : public Plugin {
   EnvironmentWork environment_work_;
 };
 
-// Adds the "atmosphere" plugin factory and the sky-* commands.
+// Adds the "atmosphere" plugin factory.
 void register_atmosphere_plugin(PluginRegistry& registry);
 
 }  // namespace cr

@@ -4,6 +4,7 @@
 
 #include "engine/render/frame_graph.h"
 #include "engine/render/frame_view.h"
+#include "engine/render/plugin_registry.h"
 
 namespace cr {
 
@@ -104,6 +105,10 @@ void FogPlugin::report_frame(nlohmann::json& frame) {
   frame["volume_kept"] = s.volume_kept;
   frame["integrated_froxels"] = s.integrated_froxels;
   frame["unsettled_froxels"] = s.unsettled_froxels;
+}
+
+void register_fog_plugin(PluginRegistry& registry) {
+  registry.add("fog", [] { return std::make_unique<FogPlugin>(); });
 }
 
 }  // namespace cr

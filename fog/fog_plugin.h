@@ -14,6 +14,8 @@
 
 namespace cr {
 
+class PluginRegistry;
+
 class FogPlugin : public Plugin {
  public:
   std::string name() const override { return "fog"; }
@@ -35,8 +37,7 @@ class FogPlugin : public Plugin {
   std::unique_ptr<FroxelFog> fog_;
 };
 
-// Adds the "fog" plugin factory and the fog commands (fog-accuracy,
-// fog-temporal, fog-bench) to the registry.
+// Adds the "fog" plugin factory to the registry.
 void register_fog_plugin(PluginRegistry& registry);
 
 }  // namespace cr

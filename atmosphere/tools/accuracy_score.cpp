@@ -1,4 +1,4 @@
-#include "atmosphere/accuracy_score.h"
+#include "atmosphere/tools/accuracy_score.h"
 
 #include <algorithm>
 #include <cmath>

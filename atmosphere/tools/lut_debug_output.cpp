@@ -1,4 +1,4 @@
-#include "atmosphere/lut_debug_output.h"
+#include "atmosphere/tools/lut_debug_output.h"
 
 #include <algorithm>
 #include <cmath>

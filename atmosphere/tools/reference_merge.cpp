@@ -1,4 +1,4 @@
-#include "atmosphere/reference_merge.h"
+#include "atmosphere/tools/reference_merge.h"
 
 #include <cmath>
 

@@ -1,4 +1,4 @@
-#include "atmosphere/reference_renderer.h"
+#include "atmosphere/tools/reference_renderer.h"
 
 #include <algorithm>
 #include <atomic>

@@ -1,23 +1,24 @@
 #pragma once
-// The atmosphere's CLI commands:
-//   sky-accuracy  LUT method vs the path-traced reference: mean / p95 relative luminance error and times
-//   sky-bench     per-LUT bake times (full, per slice, amortised; 1 and all threads), composite time,
-//                 and the error amortisation costs along a camera path with a moving sun
+// The atmosphere tools' CLI commands:
+//   sky-accuracy     the LUT method against the path-traced reference: mean / p95 relative luminance error, times
+//   sky-bench        per-LUT bake times (full, per slice, amortised; 1 and all threads), composite time,
+//                    and the error amortisation costs along a camera path with a moving sun
 //   sky-environment  the prefiltered specular environment against integrating the un-prefiltered sky
-//                 per roughness, its bake time (full, per slice, amortised) and what its schedule costs
-//   sky-luts      writes every LUT as EXR + false-colour PNG
-// Each takes --key value options (see sky_command_usage) and returns an exit code.
+//                    per roughness, its bake time (full, per slice, amortised) and what its schedule costs
+//   sky-luts         writes every LUT as EXR + false-colour PNG
+// Each parses its options with ArgParser (--help lists them) and returns an exit code.
 #include <string>
 #include <vector>
 
 namespace cr {
 
-class PluginRegistry;
+class CommandRegistry;
 
 int sky_accuracy_command(const std::vector<std::string>& args);
 int sky_bench_command(const std::vector<std::string>& args);
 int sky_environment_command(const std::vector<std::string>& args);
 int sky_luts_command(const std::vector<std::string>& args);
-void register_sky_commands(PluginRegistry& registry);
+// Adds the four commands.
+void register_sky_commands(CommandRegistry& commands);
 
 }  // namespace cr

@@ -100,19 +100,41 @@ int ArgParser::get_int(const std::string& name, int min, int max) const {
   return int(v);
 }
 
-double ArgParser::get_double(const std::string& name, double min, double max) const {
-  const std::string s = get(name);
+namespace {
+
+// The whole of `s` as a finite number, or nothing.
+std::optional<double> parse_number(const std::string& s) {
   size_t used = 0;
   double v = 0;
   try {
     v = std::stod(s, &used);
   } catch (const std::exception&) {
-    used = 0;
+    return std::nullopt;
   }
-  if (used != s.size() || s.empty() || !std::isfinite(v))
-    throw UsageError(command_ + ": --" + name + " expects a number, got '" + s + "'");
-  if (v < min || v > max) throw UsageError(command_ + ": --" + name + " is out of range: " + s);
+  if (used != s.size() || s.empty() || !std::isfinite(v)) return std::nullopt;
   return v;
+}
+
+}  // namespace
+
+std::vector<double> ArgParser::get_doubles(const std::string& name, double min, double max) const {
+  std::vector<double> values;
+  for (const std::string& item : get_list(name)) {
+    const std::optional<double> v = parse_number(item);
+    if (!v) throw UsageError(command_ + ": --" + name + " expects comma-separated numbers, got '" + item + "'");
+    if (*v < min || *v > max) throw UsageError(command_ + ": --" + name + " is out of range: " + item);
+    values.push_back(*v);
+  }
+  if (values.empty()) throw UsageError(command_ + ": --" + name + " is empty");
+  return values;
+}
+
+double ArgParser::get_double(const std::string& name, double min, double max) const {
+  const std::string s = get(name);
+  const std::optional<double> v = parse_number(s);
+  if (!v) throw UsageError(command_ + ": --" + name + " expects a number, got '" + s + "'");
+  if (*v < min || *v > max) throw UsageError(command_ + ": --" + name + " is out of range: " + s);
+  return *v;
 }
 
 std::string ArgParser::help() const {

@@ -28,6 +28,8 @@ class ArgParser {
   std::vector<std::string> get_list(const std::string& name) const;
   int get_int(const std::string& name, int min, int max) const;
   double get_double(const std::string& name, double min, double max) const;
+  // A non-empty comma-separated list of numbers, each in [min, max] ("0,45,80").
+  std::vector<double> get_doubles(const std::string& name, double min, double max) const;
   std::string help() const;
 
  private:

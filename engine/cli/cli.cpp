@@ -12,19 +12,16 @@
 #include "engine/cli/compare_command.h"
 #include "engine/cli/golden_command.h"
 #include "engine/core/error.h"
-#include "engine/render/plugin.h"
+#include "engine/cli/command_registry.h"
+#include "engine/render/plugin_registry.h"
 
 namespace cr {
 
 namespace {
 
-struct Command {
-  std::string name, summary;
-  std::function<int(const std::vector<std::string>&)> run;
-};
-
-std::vector<Command> all_commands(const PluginRegistry& registry) {
-  std::vector<Command> cmds = {
+// The engine's commands, then those the tools registered.
+std::vector<CliCommand> all_commands(const PluginRegistry& registry, const CommandRegistry& tools) {
+  std::vector<CliCommand> cmds = {
       {"render", "render frames of a scene to PNG/EXR with a timing report and trace",
        [&](const auto& a) { return render_command(a, registry); }},
       {"bench", "benchmark the default scene and glTF files at 1 and all threads",
@@ -36,13 +33,13 @@ std::vector<Command> all_commands(const PluginRegistry& registry) {
       {"golden", "golden-image check of every scene and profile (1 vs N threads bit-exact); --update",
        [&](const auto& a) { return golden_command(a, registry); }},
   };
-  for (const PluginCommand& c : registry.commands()) cmds.push_back({c.name, c.summary, c.run});
+  for (const CliCommand& c : tools.commands()) cmds.push_back(c);
   return cmds;
 }
 
-void print_help(const std::vector<Command>& cmds) {
+void print_help(const std::vector<CliCommand>& cmds) {
   std::cout << "usage: cpurender <command> [options]   (cpurender <command> --help for details)\n\ncommands:\n";
-  for (const Command& c : cmds) {
+  for (const CliCommand& c : cmds) {
     std::string left = "  " + c.name;
     std::cout << left << std::string(left.size() < 18 ? 18 - left.size() : 1, ' ') << c.summary << "\n";
   }
@@ -50,22 +47,23 @@ void print_help(const std::vector<Command>& cmds) {
 
 }  // namespace
 
-int run_cli(int argc, char** argv, const std::function<void(PluginRegistry&)>& register_plugins) {
+int run_cli(int argc, char** argv, const std::function<void(PluginRegistry&, CommandRegistry&)>& register_builtins) {
   PluginRegistry registry;
+  CommandRegistry tools;
   try {
-    register_plugins(registry);
+    register_builtins(registry, tools);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "cpurender: internal error registering plugins: %s\n", e.what());
     return 2;
   }
-  const std::vector<Command> cmds = all_commands(registry);
+  const std::vector<CliCommand> cmds = all_commands(registry, tools);
   if (argc < 2 || std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h") {
     print_help(cmds);
     return argc < 2 ? 2 : 0;
   }
   const std::string name = argv[1];
   const std::vector<std::string> args(argv + 2, argv + argc);
-  for (const Command& c : cmds) {
+  for (const CliCommand& c : cmds) {
     if (c.name != name) continue;
     try {
       return c.run(args);

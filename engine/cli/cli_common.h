@@ -9,7 +9,7 @@
 #include "engine/core/profile.h"
 #include "engine/output/timing_report.h"
 #include "engine/render/frame_buffers.h"
-#include "engine/render/plugin.h"
+#include "engine/render/plugin_registry.h"
 #include "engine/render/renderer.h"
 #include "engine/scene/gltf_loader.h"
 #include "engine/scene/scene.h"

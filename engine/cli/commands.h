@@ -1,16 +1,19 @@
 #pragma once
-// The CLI's commands: render, bench, compare, ... Each returns a process exit
-// code and prints one clear message on error.
+// The CLI's entry points. Each command returns a process exit code and prints
+// one clear message on error.
 #include <functional>
 
 namespace cr {
 
+class CommandRegistry;
 class PluginRegistry;
 
-// Registers the plugins linked into this binary (atmosphere, fog); defined by
-// the composition root (builtin_plugins.cpp), not by the engine.
-void register_builtin_plugins(PluginRegistry& registry);
-// Runs the CLI with the plugins that `register_plugins` registers.
-int run_cli(int argc, char** argv, const std::function<void(PluginRegistry&)>& register_plugins);
+// The plugins linked into this binary (atmosphere, fog) and their tools'
+// commands (sky-*, fog-*, which render through `plugins`); defined by the
+// composition root (builtin_plugins.cpp), not by the engine.
+void register_builtin_plugins(PluginRegistry& plugins);
+void register_builtin_tools(CommandRegistry& commands, const PluginRegistry& plugins);
+// Runs the CLI with the plugins and tool commands that `register_builtins` adds.
+int run_cli(int argc, char** argv, const std::function<void(PluginRegistry&, CommandRegistry&)>& register_builtins);
 
 }  // namespace cr

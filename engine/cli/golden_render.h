@@ -8,7 +8,7 @@
 
 #include "engine/cli/golden_cases.h"
 #include "engine/output/image.h"
-#include "engine/render/plugin.h"
+#include "engine/render/plugin_registry.h"
 
 namespace cr {
 

@@ -21,4 +21,9 @@ __attribute__((constructor(101))) void require_instruction_set() {
 }  // namespace
 #endif
 
-int main(int argc, char** argv) { return cr::run_cli(argc, argv, cr::register_builtin_plugins); }
+int main(int argc, char** argv) {
+  return cr::run_cli(argc, argv, [](cr::PluginRegistry& plugins, cr::CommandRegistry& commands) {
+    cr::register_builtin_plugins(plugins);
+    cr::register_builtin_tools(commands, plugins);
+  });
+}

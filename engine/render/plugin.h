@@ -3,7 +3,6 @@
 // resources to the frame graph, may replace the sun/ambient terms through the
 // "light_environment" resource, and composites per pixel after shading. The
 // engine knows no plugin by name; the CLI registers them in a PluginRegistry.
-#include <functional>
 #include <memory>
 #include <span>
 #include <string>
@@ -95,28 +94,6 @@ class Plugin {
   }
   // Adds the plugin's per-frame figures (e.g. LUT bake times) to the report.
   virtual void report_frame(nlohmann::json& frame) { (void)frame; }
-};
-
-// A CLI command a plugin contributes (e.g. "sky-accuracy"). `run` gets the
-// arguments after the command name and returns the process exit code.
-struct PluginCommand {
-  std::string name;
-  std::string summary;  // one line for `cpurender --help`
-  std::function<int(const std::vector<std::string>& args)> run;
-};
-
-class PluginRegistry {
- public:
-  using Factory = std::function<std::unique_ptr<Plugin>()>;
-  void add(const std::string& name, Factory factory);
-  void add_command(PluginCommand command);
-  std::vector<std::string> names() const;
-  std::vector<std::unique_ptr<Plugin>> create_all() const;
-  const std::vector<PluginCommand>& commands() const { return commands_; }
-
- private:
-  std::vector<std::pair<std::string, Factory>> factories_;
-  std::vector<PluginCommand> commands_;
 };
 
 }  // namespace cr

@@ -1,5 +1,5 @@
 #include "engine/core/error.h"
-#include "engine/render/plugin.h"
+#include "engine/render/plugin_registry.h"
 
 namespace cr {
 
@@ -7,12 +7,6 @@ void PluginRegistry::add(const std::string& name, Factory factory) {
   for (const auto& [n, f] : factories_)
     if (n == name) throw Error("plugin '" + name + "' registered twice");
   factories_.emplace_back(name, std::move(factory));
-}
-
-void PluginRegistry::add_command(PluginCommand command) {
-  for (const PluginCommand& c : commands_)
-    if (c.name == command.name) throw Error("command '" + command.name + "' registered twice");
-  commands_.push_back(std::move(command));
 }
 
 std::vector<std::string> PluginRegistry::names() const {

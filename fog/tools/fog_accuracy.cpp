@@ -1,9 +1,9 @@
-#include "fog/fog_accuracy.h"
+#include "fog/tools/fog_accuracy.h"
 
 #include <algorithm>
 #include <chrono>
 
-#include "fog/fog_reference.h"
+#include "fog/tools/fog_reference.h"
 
 namespace cr {
 

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "engine/core/job_system.h"
-#include "fog/fog_command_common.h"
+#include "fog/tools/fog_command_common.h"
 
 namespace cr {
 

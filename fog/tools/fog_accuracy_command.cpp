@@ -5,9 +5,9 @@
 #include <string>
 
 #include "engine/core/error.h"
-#include "fog/fog_accuracy.h"
-#include "fog/fog_command_common.h"
-#include "fog/fog_commands.h"
+#include "fog/tools/fog_accuracy.h"
+#include "fog/tools/fog_command_common.h"
+#include "fog/tools/fog_commands.h"
 
 namespace cr {
 

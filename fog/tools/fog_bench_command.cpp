@@ -9,8 +9,8 @@
 #include "engine/core/error.h"
 #include "engine/output/percentile.h"
 #include "engine/render/frame_view.h"
-#include "fog/fog_command_common.h"
-#include "fog/fog_commands.h"
+#include "fog/tools/fog_command_common.h"
+#include "fog/tools/fog_commands.h"
 
 namespace cr {
 

@@ -1,4 +1,4 @@
-#include "fog/fog_command_common.h"
+#include "fog/tools/fog_command_common.h"
 
 #include <algorithm>
 #include <chrono>

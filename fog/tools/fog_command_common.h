@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "engine/core/profile.h"
-#include "engine/render/plugin.h"
+#include "engine/render/plugin_registry.h"
 #include "engine/render/renderer.h"
 #include "engine/scene/scene.h"
 #include "engine/cli/arg_parser.h"

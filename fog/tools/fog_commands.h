@@ -1,11 +1,13 @@
 #pragma once
-// The fog plugin's CLI commands (registered by register_fog_plugin).
+// The fog tools' CLI commands, each rendering through the plugins of `registry`.
 #include <string>
 #include <vector>
 
-#include "engine/render/plugin.h"
+#include "engine/render/plugin_registry.h"
 
 namespace cr {
+
+class CommandRegistry;
 
 // fog-accuracy SCENE [--profile P] [--resolution WxH] [--frame F] [--threads N] [--samples S] [--warmup W]
 int fog_accuracy_command(const std::vector<std::string>& args, const PluginRegistry& registry);
@@ -14,5 +16,7 @@ int fog_accuracy_command(const std::vector<std::string>& args, const PluginRegis
 int fog_temporal_command(const std::vector<std::string>& args, const PluginRegistry& registry);
 // fog-bench SCENE [--profile P] [--resolution WxH] [--frames N] [--threads N] [--sun-turn DEG]
 int fog_bench_command(const std::vector<std::string>& args, const PluginRegistry& registry);
+// Adds fog-accuracy, fog-temporal and fog-bench.
+void register_fog_commands(CommandRegistry& commands, const PluginRegistry& plugins);
 
 }  // namespace cr

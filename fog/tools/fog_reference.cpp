@@ -1,4 +1,4 @@
-#include "fog/fog_reference.h"
+#include "fog/tools/fog_reference.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,28 +1,26 @@
-#include "fog/fog_commands.h"
-#include "fog/fog_plugin.h"
+#include "engine/cli/command_registry.h"
+#include "fog/tools/fog_commands.h"
 
 namespace cr {
 
 namespace {
 
-// A command bound to the registry; the CLI turns its errors into one message
-// and exit code 2 like every other command's.
-PluginCommand command(const char* name, const char* summary, const PluginRegistry& registry,
-                      int (*run)(const std::vector<std::string>&, const PluginRegistry&)) {
-  return PluginCommand{name, summary,
-                       [&registry, run](const std::vector<std::string>& args) { return run(args, registry); }};
+// A command bound to the plugin registry it renders with; the CLI turns its
+// errors into one message and exit code 2 like every other command's.
+CliCommand command(const char* name, const char* summary, const PluginRegistry& plugins,
+                   int (*run)(const std::vector<std::string>&, const PluginRegistry&)) {
+  return CliCommand{name, summary, [&plugins, run](const std::vector<std::string>& args) { return run(args, plugins); }};
 }
 
 }  // namespace
 
-void register_fog_plugin(PluginRegistry& registry) {
-  registry.add("fog", [] { return std::make_unique<FogPlugin>(); });
-  registry.add_command(command("fog-accuracy", "froxel fog vs per-pixel ray-marched reference: error and time",
-                               registry, fog_accuracy_command));
-  registry.add_command(command("fog-temporal", "fog ghosting on a fast camera path and temporal noise when static",
-                               registry, fog_temporal_command));
-  registry.add_command(command("fog-bench", "fog pass times at the profile's resolution, 1 and all threads", registry,
-                               fog_bench_command));
+void register_fog_commands(CommandRegistry& commands, const PluginRegistry& plugins) {
+  commands.add(command("fog-accuracy", "froxel fog vs per-pixel ray-marched reference: error and time", plugins,
+                       fog_accuracy_command));
+  commands.add(command("fog-temporal", "fog ghosting on a fast camera path and temporal noise when static", plugins,
+                       fog_temporal_command));
+  commands.add(command("fog-bench", "fog pass times at the profile's resolution, 1 and all threads", plugins,
+                       fog_bench_command));
 }
 
 }  // namespace cr

@@ -2,7 +2,7 @@
 
 #include <doctest/doctest.h>
 
-#include "atmosphere/accuracy_score.h"
+#include "atmosphere/tools/accuracy_score.h"
 
 using namespace cr;
 

@@ -3,7 +3,7 @@
 
 #include <doctest/doctest.h>
 
-#include "atmosphere/reference_merge.h"
+#include "atmosphere/tools/reference_merge.h"
 #include "engine/core/error.h"
 
 using namespace cr;

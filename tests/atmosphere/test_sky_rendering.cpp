@@ -10,7 +10,7 @@
 #include "atmosphere/multiscattering_lut.h"
 #include "atmosphere/phase_functions.h"
 #include "atmosphere/planet_geometry.h"
-#include "atmosphere/reference_renderer.h"
+#include "atmosphere/tools/reference_renderer.h"
 #include "atmosphere/sky_composite.h"
 #include "atmosphere/sky_lighting.h"
 #include "atmosphere_test_util.h"

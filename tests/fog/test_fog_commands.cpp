@@ -11,9 +11,9 @@
 
 #include "engine/core/error.h"
 #include "engine/render/frame_view.h"
-#include "fog/fog_accuracy.h"
-#include "fog/fog_command_common.h"
-#include "fog/fog_commands.h"
+#include "fog/tools/fog_accuracy.h"
+#include "fog/tools/fog_command_common.h"
+#include "fog/tools/fog_commands.h"
 #include "fog/fog_plugin.h"
 #include "tests/output/scratch_dir.h"
 

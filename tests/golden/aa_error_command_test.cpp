@@ -6,7 +6,7 @@
 #include "engine/cli/commands.h"
 #include "engine/core/error.h"
 #include "engine/core/json_input.h"
-#include "engine/render/plugin.h"
+#include "engine/render/plugin_registry.h"
 #include "tests/output/scratch_dir.h"
 
 TEST_CASE("aa-error: msaa4 has less edge error than none against the supersampled frame; bad modes are usage errors") {

@@ -14,7 +14,7 @@
 #include "engine/core/json_input.h"
 #include "engine/output/atomic_file.h"
 #include "engine/output/png_io.h"
-#include "engine/render/plugin.h"
+#include "engine/render/plugin_registry.h"
 #include "tests/output/scratch_dir.h"
 
 using cr::test::ScratchDir;

@@ -14,6 +14,7 @@
 
 #include "engine/cli/arg_parser.h"
 #include "engine/cli/cli_common.h"
+#include "engine/cli/command_registry.h"
 #include "engine/cli/commands.h"
 #include "engine/core/error.h"
 #include "engine/core/json_input.h"
@@ -83,8 +84,8 @@ TEST_CASE("CLI: std::bad_alloc reaches the user as an out-of-memory message and 
   dup2(fileno(f), 2);
   char cmd[] = "cpurender", name[] = "oom";
   char* argv[] = {cmd, name};
-  const int rc = cr::run_cli(2, argv, [](cr::PluginRegistry& r) {
-    r.add_command({"oom", "throws std::bad_alloc", [](const std::vector<std::string>&) -> int { throw std::bad_alloc(); }});
+  const int rc = cr::run_cli(2, argv, [](cr::PluginRegistry&, cr::CommandRegistry& commands) {
+    commands.add({"oom", "throws std::bad_alloc", [](const std::vector<std::string>&) -> int { throw std::bad_alloc(); }});
   });
   std::fflush(stderr);
   dup2(saved, 2);

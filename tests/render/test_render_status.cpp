@@ -12,7 +12,7 @@
 #include "engine/cli/commands.h"
 #include "engine/core/error.h"
 #include "engine/output/atomic_file.h"
-#include "engine/render/plugin.h"
+#include "engine/render/plugin_registry.h"
 #include "tests/output/scratch_dir.h"
 
 using cr::test::ScratchDir;
@@ -64,7 +64,7 @@ struct RenderRun {
     std::vector<char*> argv;
     for (std::string& a : args) argv.push_back(a.data());
     std::shared_ptr<Probe> shared = probe;
-    return cr::run_cli(int(argv.size()), argv.data(), [shared](cr::PluginRegistry& registry) {
+    return cr::run_cli(int(argv.size()), argv.data(), [shared](cr::PluginRegistry& registry, cr::CommandRegistry&) {
       registry.add("probe", [shared] { return std::make_unique<ProbePlugin>(shared); });
     });
   }

@@ -1,0 +1,99 @@
+#include "atmosphere/tools/sky_case.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+
+#include "atmosphere/planet_frame.h"
+#include "engine/core/error.h"
+
+namespace cr {
+
+namespace {
+
+const char* const kCommandLine = "command line";
+
+nlohmann::json read_json(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path, "cannot be read");
+  try {
+    return nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(path, std::string("invalid JSON: ") + e.what());
+  }
+}
+
+}  // namespace
+
+void add_sky_setup_options(ArgParser& p) {
+  p.option("preset", "NAME", "atmosphere preset (earth-clear, earth-hazy, earth-thin, earth-dense, mars-like)",
+           "earth-clear")
+      .option("scene", "FILE", "a scene file whose \"atmosphere\" section is measured (instead of --preset)")
+      .option("profile", "FILE", "a profile file whose \"atmosphere\" section sets the LUTs (default: built-in)")
+      .option("threads", "N", "worker threads (default: all cores)");
+}
+
+SkySetup load_sky_setup(const ArgParser& p) {
+  SkySetup s;
+  if (p.has("scene")) {
+    const std::string path = p.get("scene");
+    const nlohmann::json doc = read_json(path);
+    if (!doc.is_object() || !doc.contains("atmosphere"))
+      throw InputError(path, "atmosphere: the scene has no atmosphere section");
+    s.scene = parse_atmosphere_scene(doc["atmosphere"], path);
+  } else {
+    s.scene = parse_atmosphere_scene(nlohmann::json{{"preset", p.get("preset")}}, kCommandLine);
+  }
+  if (p.has("profile")) {
+    const std::string path = p.get("profile");
+    const nlohmann::json doc = read_json(path);
+    s.settings = parse_atmosphere_settings(doc.is_object() && doc.contains("atmosphere") ? doc["atmosphere"]
+                                                                                         : nlohmann::json(),
+                                           path);
+  }
+  return s;
+}
+
+unsigned sky_threads(const ArgParser& p) {
+  return p.has("threads") ? unsigned(p.get_int("threads", 1, 1024)) : JobSystem::default_thread_count();
+}
+
+SkyCase make_sky_case(const SkySetup& setup, const AtmosphereSettings& settings) {
+  SkyCase c;
+  c.luts = std::make_unique<LutScheduler>(settings);
+  c.luts->set_model(setup.scene.model);
+  c.offset = planet_offset(setup.scene);
+  return c;
+}
+
+void update_sky_case(SkyCase& c, int frame, const Camera& camera, const glm::vec3& sun, const glm::vec3& illuminance,
+                     JobSystem& jobs) {
+  c.camera = camera;
+  c.plan = c.luts->plan(frame_inputs(c.luts->model(), c.offset, frame, camera, sun));
+  c.luts->run_all(c.plan, jobs);
+  c.frame = make_sky_frame(*c.luts, c.plan, camera, c.offset, illuminance);
+}
+
+Camera horizon_camera(double altitude, int width, int height) {
+  return Camera::look_at(glm::dvec3(0.0, altitude, 0.0), glm::dvec3(1000.0, altitude, 0.0), 1.0471976f,
+                         float(width) / float(height), 0.1f);
+}
+
+glm::vec3 sun_at_zenith_angle(double zenith_deg) {
+  const double z = zenith_deg * M_PI / 180.0;
+  return glm::vec3(float(std::sin(z)), float(std::cos(z)), 0.0f);
+}
+
+double now_ms() {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v.empty() ? 0.0 : v[v.size() / 2];
+}
+
+}  // namespace cr
