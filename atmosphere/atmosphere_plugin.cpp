@@ -40,69 +40,91 @@ void AtmospherePlugin::estimate_memory(const SceneDescription& description, cons
                              profile.path, memory);
 }
 
-void AtmospherePlugin::add_passes(FrameGraph& graph, FrameContext& ctx) {
+void AtmospherePlugin::add_passes(FrameGraph& graph, const FrameContext& ctx, EngineResources& engine) {
+  using Builder = FrameGraph::Builder;
+  using Resources = FrameGraph::Resources;
   const glm::dvec3 offset = planet_offset(scene_);
   plan_ = scheduler_->plan(frame_inputs(scene_.model, offset, ctx.view.frame, ctx.view.camera, ctx.view.sun_direction));
-  LutScheduler* sched = scheduler_.get();
-  JobSystem* jobs = &ctx.jobs;
   const AtmospherePlan* plan = &plan_;
+  // The four LUTs persist across frames (imported); a LUT's pass runs only in
+  // frames where its schedule has work.
   static const char* const kResources[kLutKinds] = {"atmosphere.transmittance", "atmosphere.multiscattering",
                                                     "atmosphere.skyview", "atmosphere.aerial_perspective"};
+  FrameGraphId<LutScheduler> luts[kLutKinds];
+  for (int k = 0; k < kLutKinds; ++k) luts[k] = graph.import(kResources[k], *scheduler_);
+  struct LutData {
+    FrameGraphId<LutScheduler> lut;
+  };
   for (int k = 0; k < kLutKinds; ++k) {
     if (!plan_.work[size_t(k)].active) continue;
     const LutKind kind = LutKind(k);
-    graph.add_pass(
+    graph.add_pass<LutData>(
         kResources[k],
-        [k](FrameGraph::Builder& b) {
-          if (k >= 1) b.read(kResources[0]);
-          if (k >= 2) b.read(kResources[1]);
-          b.write(kResources[k]);
+        [&luts, k](Builder& b, LutData& d) {
+          if (k >= 1) b.read(luts[0]);
+          if (k >= 2) b.read(luts[1]);
+          d.lut = luts[k] = b.write(luts[k]);
         },
-        [sched, jobs, plan, kind] { sched->run(kind, *plan, *jobs); });
+        [plan, kind](const Resources& r, const LutData& d) { r.get_mutable(d.lut).run(kind, *plan, r.jobs()); });
   }
-  const Camera camera = ctx.view.camera;
-  const glm::vec3 illuminance = ctx.view.sun_illuminance;
-  SkyFrame* sky = &sky_;
-  graph.add_pass(
+  struct SkyData {
+    FrameGraphId<LutScheduler> luts;
+    FrameGraphId<SkyFrame> sky;
+  };
+  sky_handle_ = graph.create("atmosphere.sky", sky_);
+  graph.add_pass<SkyData>(
       "atmosphere.sky",
-      [](FrameGraph::Builder& b) {
-        for (const char* r : kResources) b.read(r);
-        b.write("atmosphere.sky");
+      [&](Builder& b, SkyData& d) {
+        for (const FrameGraphId<LutScheduler>& lut : luts) d.luts = b.read(lut);  // one object holds all four
+        d.sky = sky_handle_ = b.write(sky_handle_);
       },
-      [sched, plan, sky, camera, offset, illuminance] {
-        *sky = make_sky_frame(*sched, *plan, camera, offset, illuminance);
+      [plan, camera = ctx.view.camera, offset, illuminance = ctx.view.sun_illuminance](const Resources& r,
+                                                                                         const SkyData& d) {
+        r.get_mutable(d.sky) = make_sky_frame(r.get(d.luts), *plan, camera, offset, illuminance);
       });
-  SkyEnvironment* env = environment_.get();
-  const uint64_t upstream = sched->version(LutKind::MultiScattering) +
+  FrameGraphId<SkyEnvironment> environment = graph.import("atmosphere.environment", *environment_);
+  const uint64_t upstream = scheduler_->version(LutKind::MultiScattering) +
                             (plan_.work[size_t(LutKind::MultiScattering)].publishes ? 1 : 0);
-  environment_work_ = env->plan(plan_, upstream);
+  environment_work_ = environment_->plan(plan_, upstream);
+  struct EnvironmentData {
+    FrameGraphId<SkyFrame> sky;
+    FrameGraphId<SkyEnvironment> environment;
+  };
   if (environment_work_.active) {
     const EnvironmentWork* work = &environment_work_;
-    graph.add_pass(
+    graph.add_pass<EnvironmentData>(
         "atmosphere.environment",
-        [](FrameGraph::Builder& b) {
-          b.read("atmosphere.sky");
-          b.write("atmosphere.environment");
+        [&](Builder& b, EnvironmentData& d) {
+          d.sky = b.read(sky_handle_);
+          d.environment = environment = b.write(environment);
         },
-        [env, work, plan, upstream, sky, jobs] { env->run(*work, *plan, upstream, *sky, *jobs); });
+        [work, plan, upstream](const Resources& r, const EnvironmentData& d) {
+          r.get_mutable(d.environment).run(*work, *plan, upstream, r.get(d.sky), r.jobs());
+        });
   }
-  LightEnvironment* light = &ctx.light;
-  graph.add_pass(
+  struct LightingData {
+    FrameGraphId<SkyFrame> sky;
+    FrameGraphId<SkyEnvironment> environment;
+    FrameGraphId<LightEnvironment> light;
+  };
+  graph.add_pass<LightingData>(
       "atmosphere.lighting",
-      [](FrameGraph::Builder& b) {
-        b.read("atmosphere.sky");
-        b.read("atmosphere.environment");
-        b.write("light_environment");
+      [&](Builder& b, LightingData& d) {
+        d.sky = b.read(sky_handle_);
+        d.environment = b.read(environment);
+        d.light = engine.light = b.write(engine.light);
       },
-      [sky, light, env] { fill_light_environment(*sky, *light, env->front()); });
+      [](const Resources& r, const LightingData& d) {
+        fill_light_environment(r.get(d.sky), r.get_mutable(d.light), r.get(d.environment).front());
+      });
 }
 
-void AtmospherePlugin::composite(const FrameContext& ctx, int x0, int y0, int x1, int y1) {
-  composite_sky(sky_, ctx.buffers, x0, y0, x1, y1);
+void AtmospherePlugin::composite(FrameBuffers& buffers, int x0, int y0, int x1, int y1) {
+  composite_sky(sky_, buffers, x0, y0, x1, y1);
 }
 
-void AtmospherePlugin::composite_fragments(const FrameContext& ctx, std::span<EdgeFragment> fragments) {
-  composite_sky_fragments(sky_, ctx.buffers.width, ctx.buffers.height, fragments);
+void AtmospherePlugin::composite_fragments(const FrameBuffers& buffers, std::span<EdgeFragment> fragments) {
+  composite_sky_fragments(sky_, buffers.width, buffers.height, fragments);
 }
 
 void AtmospherePlugin::report_frame(nlohmann::json& frame) {

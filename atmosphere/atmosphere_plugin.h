@@ -12,6 +12,8 @@
 // and every frame:
 //   atmosphere.sky                 reads the LUTs, writes atmosphere.sky (the composite's input)
 //   atmosphere.lighting            reads atmosphere.sky and atmosphere.environment, writes light_environment
+// The plugin provides the light environment: the renderer declares these
+// passes before any other plugin's, so the fog and shading read its light.
 #include <memory>
 #include <optional>
 #include <string>
@@ -35,12 +37,13 @@ class AtmospherePlugin : public Plugin {
   bool configure(const Scene& scene, const SceneDescription& description, const Profile& profile) override;
   void estimate_memory(const SceneDescription& description, const Profile& profile,
                        MemoryBudget& memory) const override;
-  void add_passes(FrameGraph& graph, FrameContext& ctx) override;
-  std::vector<std::string> composite_reads() const override { return {"atmosphere.sky"}; }
+  bool provides_light_environment() const override { return true; }
+  void add_passes(FrameGraph& graph, const FrameContext& ctx, EngineResources& engine) override;
+  std::vector<FrameGraphHandle> composite_reads() const override { return {sky_handle_}; }
   int composite_order() const override { return 100; }
   bool has_composite() const override { return true; }
-  void composite(const FrameContext& ctx, int x0, int y0, int x1, int y1) override;
-  void composite_fragments(const FrameContext& ctx, std::span<EdgeFragment> fragments) override;
+  void composite(FrameBuffers& buffers, int x0, int y0, int x1, int y1) override;
+  void composite_fragments(const FrameBuffers& buffers, std::span<EdgeFragment> fragments) override;
   void report_frame(nlohmann::json& frame) override;
 
   const LutScheduler* scheduler() const { return scheduler_.get(); }
@@ -53,6 +56,7 @@ class AtmospherePlugin : public Plugin {
   std::unique_ptr<LutScheduler> scheduler_;
   AtmospherePlan plan_;
   SkyFrame sky_;
+  FrameGraphId<SkyFrame> sky_handle_;  // sky_ in this frame's graph, as the sky pass wrote it
   std::unique_ptr<SkyEnvironment> environment_;
   EnvironmentWork environment_work_;
 };

@@ -40,46 +40,90 @@ void FogPlugin::estimate_memory(const SceneDescription& description, const Profi
                 profile.path, "fog.froxel_size_px", saturating_product({columns, size_t(p.slices), per_froxel}));
 }
 
-void FogPlugin::add_passes(FrameGraph& graph, FrameContext& ctx) {
-  FroxelFog* fog = fog_.get();
-  FrameContext* c = &ctx;
-  const FogProfileSettings& p = fog->profile();
-  graph.add_pass(
-      "fog.density", [](FrameGraph::Builder& b) { b.read("depth").write("fog.density"); },
-      [fog, c] {
-        fog->begin_frame(c->view, c->jobs, &c->buffers.distance);
-        fog->density();
-      });
-  graph.add_pass(
-      "fog.lighting",
-      [](FrameGraph::Builder& b) {
-        b.read("fog.density").read("shadow_map").write("fog.lighting");
+void FogPlugin::add_passes(FrameGraph& graph, const FrameContext& ctx, EngineResources& engine) {
+  using Builder = FrameGraph::Builder;
+  using Resources = FrameGraph::Resources;
+  // Each stage's output lives in the FroxelFog; the history persists across frames.
+  FroxelFog& fog = *fog_;
+  const FogProfileSettings& p = fog.profile();
+  FrameGraphId<FroxelFog> density = graph.create("fog.density", fog);
+  FrameGraphId<FroxelFog> sun = graph.create("fog.lighting", fog);  // the sun visibility integration reads
+  struct DensityData {
+    FrameGraphId<FrameBuffers> depth;
+    FrameGraphId<FroxelFog> density;
+  };
+  graph.add_pass<DensityData>(
+      "fog.density",
+      [&](Builder& b, DensityData& d) {
+        d.depth = b.read(engine.depth);
+        d.density = density = b.write(density);
       },
-      [fog, c] { fog->lighting(c->shadow, c->jobs, &c->previous_shadow); });
-  std::string sun = "fog.lighting";
+      [view = ctx.view](const Resources& r, const DensityData& d) {
+        FroxelFog& f = r.get_mutable(d.density);
+        f.begin_frame(view, r.jobs(), &r.get(d.depth).distance);
+        f.density();
+      });
+  struct LightingData {
+    FrameGraphId<ShadowMap> shadow, previous_shadow;
+    FrameGraphId<FroxelFog> lighting;
+  };
+  graph.add_pass<LightingData>(
+      "fog.lighting",
+      [&](Builder& b, LightingData& d) {
+        b.read(density);
+        d.shadow = b.read(engine.shadow);
+        d.previous_shadow = b.read(engine.previous_shadow);
+        d.lighting = sun = b.write(sun);
+      },
+      [](const Resources& r, const LightingData& d) {
+        r.get_mutable(d.lighting).lighting(r.get(d.shadow), r.jobs(), &r.get(d.previous_shadow));
+      });
+  struct StageData {
+    FrameGraphId<FroxelFog> out;
+  };
   if (p.reprojection) {
-    graph.add_pass(
-        "fog.reproject", [](FrameGraph::Builder& b) { b.read("fog.lighting").write("fog.history"); },
-        [fog, c] { fog->reproject(c->jobs); });
-    sun = "fog.history";
+    FrameGraphId<FroxelFog> history = graph.import("fog.history", fog);
+    graph.add_pass<StageData>(
+        "fog.reproject",
+        [&](Builder& b, StageData& d) {
+          b.read(sun);
+          d.out = history = b.write(history);
+        },
+        [](const Resources& r, const StageData& d) { r.get_mutable(d.out).reproject(r.jobs()); });
+    sun = history;
   }
   if (p.filter) {
-    graph.add_pass(
-        "fog.filter", [sun](FrameGraph::Builder& b) { b.read(sun).write("fog.filtered"); },
-        [fog, c] { fog->filter(c->jobs); });
-    sun = "fog.filtered";
+    FrameGraphId<FroxelFog> filtered = graph.create("fog.filtered", fog);
+    graph.add_pass<StageData>(
+        "fog.filter",
+        [&](Builder& b, StageData& d) {
+          b.read(sun);
+          d.out = filtered = b.write(filtered);
+        },
+        [](const Resources& r, const StageData& d) { r.get_mutable(d.out).filter(r.jobs()); });
+    sun = filtered;
   }
-  graph.add_pass(
+  struct IntegrateData {
+    FrameGraphId<LightEnvironment> light;
+    FrameGraphId<FroxelFog> volume;
+  };
+  volume_ = graph.create("fog.volume", fog);
+  graph.add_pass<IntegrateData>(
       "fog.integrate",
-      [sun](FrameGraph::Builder& b) { b.read("fog.density").read(sun).read("light_environment").write("fog.volume"); },
-      [fog, c] { fog->integrate(c->light, c->jobs); });
+      [&](Builder& b, IntegrateData& d) {
+        b.read(density);
+        b.read(sun);
+        d.light = b.read(engine.light);
+        d.volume = volume_ = b.write(volume_);
+      },
+      [](const Resources& r, const IntegrateData& d) { r.get_mutable(d.volume).integrate(r.get(d.light), r.jobs()); });
 }
 
-void FogPlugin::composite(const FrameContext& ctx, int x0, int y0, int x1, int y1) {
-  fog_->composite(ctx.buffers, x0, y0, x1, y1);
+void FogPlugin::composite(FrameBuffers& buffers, int x0, int y0, int x1, int y1) {
+  fog_->composite(buffers, x0, y0, x1, y1);
 }
 
-void FogPlugin::composite_fragments(const FrameContext&, std::span<EdgeFragment> fragments) {
+void FogPlugin::composite_fragments(const FrameBuffers&, std::span<EdgeFragment> fragments) {
   fog_->composite_fragments(fragments);
 }
 

@@ -2,7 +2,7 @@
 // The froxel fog as an engine plugin ("fog"): validates the scene's and the
 // profile's "fog" sections, declares the passes fog.density (reads depth, for
 // depth-aware froxel culling) -> fog.lighting
-// (reads shadow_map) -> fog.reproject -> fog.filter -> fog.integrate (reads
+// (reads shadow_map and previous_shadow_map) -> fog.reproject -> fog.filter -> fog.integrate (reads
 // light_environment, writes fog.volume), and composites per pixel after the
 // atmosphere (order 200). A scene without a "fog" section adds no pass.
 #include <memory>
@@ -22,12 +22,12 @@ class FogPlugin : public Plugin {
   bool configure(const Scene& scene, const SceneDescription& description, const Profile& profile) override;
   void estimate_memory(const SceneDescription& description, const Profile& profile,
                        MemoryBudget& memory) const override;
-  void add_passes(FrameGraph& graph, FrameContext& ctx) override;
-  std::vector<std::string> composite_reads() const override { return {"fog.volume"}; }
+  void add_passes(FrameGraph& graph, const FrameContext& ctx, EngineResources& engine) override;
+  std::vector<FrameGraphHandle> composite_reads() const override { return {volume_}; }
   int composite_order() const override { return 200; }
   bool has_composite() const override { return true; }
-  void composite(const FrameContext& ctx, int x0, int y0, int x1, int y1) override;
-  void composite_fragments(const FrameContext& ctx, std::span<EdgeFragment> fragments) override;
+  void composite(FrameBuffers& buffers, int x0, int y0, int x1, int y1) override;
+  void composite_fragments(const FrameBuffers& buffers, std::span<EdgeFragment> fragments) override;
   void report_frame(nlohmann::json& frame) override;
 
   // The fog state (for commands and tests); null before configure().
@@ -35,6 +35,7 @@ class FogPlugin : public Plugin {
 
  private:
   std::unique_ptr<FroxelFog> fog_;
+  FrameGraphId<FroxelFog> volume_;  // this frame's integrated volume, the composite's input
 };
 
 // Adds the "fog" plugin factory to the registry.

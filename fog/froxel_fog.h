@@ -55,7 +55,7 @@ class FroxelFog {
   // given the same distances.
   void begin_frame(const FrameView& view, JobSystem& jobs, const std::vector<float>* distance = nullptr);
   void density();
-  // previous: last frame's shadow map (FrameContext::previous_shadow; size 0
+  // previous: last frame's shadow map (EngineResources::previous_shadow; size 0
   // or null when there is none). Where the sun has moved since, the history
   // is trusted less where the light changed (light_change_rejection).
   void lighting(const ShadowMap& shadow, JobSystem& jobs, const ShadowMap* previous = nullptr);

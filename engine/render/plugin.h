@@ -1,7 +1,8 @@
 #pragma once
 // The plugin interface. A plugin (the atmosphere, the fog) adds passes and
-// resources to the frame graph, may replace the sun/ambient terms through the
-// "light_environment" resource, and composites per pixel after shading. The
+// resources to the frame graph, reads the engine's resources through the
+// handles it is given, may provide the light environment (the sun and
+// ambient terms shading uses), and composites per pixel after shading. The
 // engine knows no plugin by name; the CLI registers them in a PluginRegistry.
 #include <memory>
 #include <span>
@@ -10,10 +11,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "engine/core/job_system.h"
 #include "engine/core/memory_budget.h"
 #include "engine/core/profile.h"
 #include "engine/render/frame_buffers.h"
+#include "engine/render/frame_graph.h"
 #include "engine/scene/camera.h"
 #include "engine/scene/scene.h"
 #include "engine/scene/scene_description.h"
@@ -21,8 +22,6 @@
 #include "engine/shading/shadow_map.h"
 
 namespace cr {
-
-class FrameGraph;
 
 // What one frame is: camera now and before, sun, image size.
 struct FrameView {
@@ -36,23 +35,29 @@ struct FrameView {
   glm::vec3 sun_illuminance{0.0f};            // RGB lux, unattenuated
 };
 
-// Everything a pass may touch during a frame. Resources produced by engine
-// passes: "light_environment" (light), "shadow_map" (shadow), "visibility"
-// and "depth" (geometry: buffers.depth and buffers.distance are valid once a
-// pass that reads "depth" runs), "hdr_color" (shade: buffers.color), "frame"
-// (resolve: buffers.display).
+// What a frame is made of, for declaring passes: values, no buffers (those
+// are resources of the graph).
 struct FrameContext {
   const Scene& scene;
   const SceneDescription& description;
   const Profile& profile;
-  JobSystem& jobs;
   FrameView view;
-  FrameBuffers& buffers;
-  LightEnvironment& light;
-  const ShadowMap& shadow;  // size 0 when there is no shadow pass
-  // Last frame's map where this frame's is a new render (the sun or the
-  // texel-snapped projection moved), else size 0; valid from the shadow pass on.
-  const ShadowMap& previous_shadow;
+};
+
+// The engine's resources in this frame's graph, at the versions a plugin's
+// passes read (a pass that writes one stores the version it returns here).
+struct EngineResources {
+  // Sun and ambient terms for shading: written by the engine's "light" pass,
+  // then by the light-environment provider's passes, if a plugin provides it.
+  FrameGraphId<LightEnvironment> light;
+  // The sun's shadow map (size 0 without a shadow pass), and last frame's map
+  // where this frame's is a new render (the sun or the texel-snapped
+  // projection moved), else size 0; both written by the "shadow" pass.
+  FrameGraphId<ShadowMap> shadow;
+  FrameGraphId<ShadowMap> previous_shadow;
+  // FrameBuffers::depth, ::distance and the edge fragments' positions and
+  // distances, written by the "geometry" pass.
+  FrameGraphId<FrameBuffers> depth;
 };
 
 class Plugin {
@@ -73,24 +78,31 @@ class Plugin {
                                MemoryBudget& memory) const {
     (void)description; (void)profile; (void)memory;
   }
-  // Declares this frame's passes. The graph culls those nobody reads.
-  virtual void add_passes(FrameGraph& graph, FrameContext& ctx) = 0;
-  // Resources the per-pixel composite reads (become reads of the composite pass).
-  virtual std::vector<std::string> composite_reads() const { return {}; }
+  // Whether this plugin's passes write the light environment (the sky does).
+  // The renderer declares the provider's passes before any other plugin's,
+  // so those and the shade pass read its light; a scene may use one provider.
+  virtual bool provides_light_environment() const { return false; }
+  // Declares this frame's passes; only the provider may write engine.light.
+  // The graph culls passes nobody reads.
+  virtual void add_passes(FrameGraph& graph, const FrameContext& ctx, EngineResources& engine) = 0;
+  // This frame's resources the per-pixel composite reads (become reads of
+  // the composite pass).
+  virtual std::vector<FrameGraphHandle> composite_reads() const { return {}; }
   // Plugins composite in increasing order (sky and aerial perspective before fog).
   virtual int composite_order() const { return 0; }
-  // Per-pixel composite of the rectangle [x0,x1) x [y0,y1) of ctx.buffers.color;
-  // called from parallel tile jobs, so it writes only inside its rectangle.
-  virtual void composite(const FrameContext& ctx, int x0, int y0, int x1, int y1) {
-    (void)ctx; (void)x0; (void)y0; (void)x1; (void)y1;
+  // Per-pixel composite of the rectangle [x0,x1) x [y0,y1) of buffers.color
+  // (depth and distance valid); called from parallel tile jobs, so it writes
+  // only inside its rectangle.
+  virtual void composite(FrameBuffers& buffers, int x0, int y0, int x1, int y1) {
+    (void)buffers; (void)x0; (void)y0; (void)x1; (void)y1;
   }
   virtual bool has_composite() const { return false; }
-  // The same composite for edge-pixel fragments (FrameBuffers::fragments):
+  // The same composite for edge-pixel fragments (a range of buffers.fragments):
   // each at its own screen position and distance, in place; called from
   // parallel jobs on disjoint ranges. A plugin with a composite must give
   // fragments what it gives pixels.
-  virtual void composite_fragments(const FrameContext& ctx, std::span<EdgeFragment> fragments) {
-    (void)ctx; (void)fragments;
+  virtual void composite_fragments(const FrameBuffers& buffers, std::span<EdgeFragment> fragments) {
+    (void)buffers; (void)fragments;
   }
   // Adds the plugin's per-frame figures (e.g. LUT bake times) to the report.
   virtual void report_frame(nlohmann::json& frame) { (void)frame; }

@@ -121,7 +121,6 @@ struct Renderer::Geometry {
   TiledRasterizer shadow;  // the sun's depth map
   std::vector<RasterDraw> opaque, blended, casters;
   RasterStats stats;
-  uint64_t pixels_shaded = 0;
   // Multisampling: per-pixel ids (edge_pixel_id at edge pixels) and the
   // per-tile lists the edge fragments are gathered from.
   std::vector<uint32_t> pixel_ids;
@@ -139,6 +138,13 @@ Renderer::Renderer(const Scene& scene, const SceneDescription& description, cons
                                            " perspective camera(s)");
   for (auto& p : plugins)
     if (p->configure(scene, description, profile)) plugins_.push_back(std::move(p));
+  for (const auto& p : plugins_)
+    if (p->provides_light_environment()) {
+      if (light_provider_)
+        throw InputError(description.path, "plugins '" + light_provider_->name() + "' and '" + p->name() +
+                                               "' both provide the light environment; a scene may use one");
+      light_provider_ = p.get();
+    }
   std::stable_sort(plugins_.begin(), plugins_.end(),
                    [](const auto& a, const auto& b) { return a->composite_order() < b->composite_order(); });
   buffers_.resize(profile.width, profile.height);
@@ -178,52 +184,77 @@ const FrameRecord& Renderer::render_frame(int frame) {
 
   Geometry& geo = *geometry_;
   const Camera& cam = view.camera;
-  FrameContext ctx{scene_, description_, profile_, jobs_, view, buffers_, light_, shadow_, previous_shadow_};
+  const FrameContext ctx{scene_, description_, profile_, view};
   const int w = buffers_.width, h = buffers_.height;
   const int tile = profile_.tile_size;
   const bool sun_up = view.sun_direction.y > 0.0f && glm::length(view.sun_illuminance) > 0.0f;
 
   FrameGraph graph;
+  EngineResources engine;
+  engine.light = graph.create("light_environment", light_);
+  engine.shadow = graph.import("shadow_map", shadow_);
+  engine.previous_shadow = graph.import("previous_shadow_map", previous_shadow_);
+  FrameGraphId<Geometry> visibility = graph.create("visibility", geo);
+  engine.depth = graph.create("depth", buffers_);
+  FrameGraphId<FrameBuffers> color = graph.create("hdr_color", buffers_);
+  FrameGraphId<FrameBuffers> display = graph.create("frame", buffers_);
+  using Builder = FrameGraph::Builder;
+  using Resources = FrameGraph::Resources;
 
-  graph.add_pass("light", [](FrameGraph::Builder& b) { b.write("light_environment"); }, [this, &view, sun_up] {
-    light_ = LightEnvironment{};
-    light_.sun_direction = view.sun_direction;
-    light_.sun_illuminance = sun_up ? view.sun_illuminance : glm::vec3(0.0f);
-    light_.ambient_sh = sh_constant_radiance(description_.ambient);
-  });
+  struct LightData {
+    FrameGraphId<LightEnvironment> light;
+  };
+  graph.add_pass<LightData>(
+      "light", [&](Builder& b, LightData& d) { d.light = engine.light = b.write(engine.light); },
+      [sun = view.sun_direction, illuminance = sun_up ? view.sun_illuminance : glm::vec3(0.0f),
+       ambient = description_.ambient](const Resources& r, const LightData& d) {
+        LightEnvironment& light = r.get_mutable(d.light);
+        light = LightEnvironment{};
+        light.sun_direction = sun;
+        light.sun_illuminance = illuminance;
+        light.ambient_sh = sh_constant_radiance(ambient);
+      });
 
   const bool shadows = profile_.shadow_map_size > 0 && sun_up;
+  struct ShadowData {
+    FrameGraphId<ShadowMap> shadow, previous;
+  };
   if (shadows)
-    graph.add_pass("shadow", [](FrameGraph::Builder& b) { b.write("shadow_map"); }, [this, &geo, &view] {
+    graph.add_pass<ShadowData>("shadow", [&](Builder& b, ShadowData& d) {
+      d.shadow = engine.shadow = b.write(engine.shadow);
+      d.previous = engine.previous_shadow = b.write(engine.previous_shadow);
+    }, [this, &geo, &view](const Resources& r, const ShadowData& d) {
+      ShadowMap& shadow = r.get_mutable(d.shadow);
+      ShadowMap& previous = r.get_mutable(d.previous);
       ShadowMap fit = fit_shadow_projection(view.camera, view.sun_direction, profile_.shadow_distance,
                                      profile_.shadow_map_size, profile_.shadow_pcf_radius, scene_.bounds_min,
                                      scene_.bounds_max);
       // A still scene: when the texel-snapped projection has not moved, last
       // frame's map is exactly what a new render would produce.
-      const bool unchanged = !pose_ && fit.size == shadow_.size && fit.light_view_proj == shadow_.light_view_proj &&
-                             fit.origin == shadow_.origin && fit.direction_to_sun == shadow_.direction_to_sun;
+      const bool unchanged = !pose_ && fit.size == shadow.size && fit.light_view_proj == shadow.light_view_proj &&
+                             fit.origin == shadow.origin && fit.direction_to_sun == shadow.direction_to_sun;
       if (unchanged) {
-        previous_shadow_.size = 0;  // nothing to compare against (its memory is kept for the next render)
+        previous.size = 0;  // nothing to compare against (its memory is kept for the next render)
         geo.shadow_reused = true;
         return;
       }
       // Last frame's map becomes the previous one (temporal plugins compare
       // against it when the sun moves); the new map renders into the memory
       // of the one before (the render writes every texel).
-      fit.depth.swap(previous_shadow_.depth);
-      previous_shadow_ = std::move(shadow_);
-      shadow_ = std::move(fit);
+      fit.depth.swap(previous.depth);
+      previous = std::move(shadow);
+      shadow = std::move(fit);
       geo.shadow_reused = false;
       geo.casters.clear();
       for (uint32_t i = 0; i < scene_.draws.size(); ++i) {
         const Draw& d = scene_.draws[i];
         const Material& m = material_of(scene_, scene_.primitive(d));
         if (m.alpha_mode == AlphaMode::Blend) continue;  // translucent surfaces cast no shadow
-        if (!aabb_in_ortho(shadow_.light_view_proj, shadow_.origin, d.world_bounds_min, d.world_bounds_max)) continue;
-        geo.casters.push_back({&scene_.primitive(d), model_to_clip(shadow_.light_view_proj, shadow_.origin, d.world),
+        if (!aabb_in_ortho(shadow.light_view_proj, shadow.origin, d.world_bounds_min, d.world_bounds_max)) continue;
+        geo.casters.push_back({&scene_.primitive(d), model_to_clip(shadow.light_view_proj, shadow.origin, d.world),
                                true, d.mirrored, m.alpha_mode == AlphaMode::Mask, i});
       }
-      geo.shadow.render_depth(jobs_, shadow_.size, profile_.tile_size, geo.casters, shadow_.depth,
+      geo.shadow.render_depth(r.jobs(), shadow.size, profile_.tile_size, geo.casters, shadow.depth,
                               alpha_coverage(scene_, geo.shadow));
     });
   else
@@ -253,36 +284,54 @@ const FrameRecord& Renderer::render_frame(int frame) {
     geo.blended.swap(sorted);
   }
 
-  graph.add_pass("geometry", [](FrameGraph::Builder& b) { b.write("visibility").write("depth"); },
-                 [this, &geo, &cam, w, h, tile] {
-    geo.stats = geo.view.render_visibility(jobs_, w, h, tile, geo.opaque, alpha_coverage(scene_, geo.view),
+  struct GeometryData {
+    FrameGraphId<Geometry> visibility;
+    FrameGraphId<FrameBuffers> depth;
+  };
+  graph.add_pass<GeometryData>("geometry", [&](Builder& b, GeometryData& d) {
+    d.visibility = visibility = b.write(visibility);
+    d.depth = engine.depth = b.write(engine.depth);
+  }, [this, &cam, w, h, tile](const Resources& r, const GeometryData& d) {
+    Geometry& geo = r.get_mutable(d.visibility);
+    FrameBuffers& buffers = r.get_mutable(d.depth);
+    JobSystem& jobs = r.jobs();
+    geo.stats = geo.view.render_visibility(jobs, w, h, tile, geo.opaque, alpha_coverage(scene_, geo.view),
                                            profile_.msaa_samples);
     if (profile_.msaa_samples == 1) {
-      buffers_.depth = geo.view.visibility().depth;
-      buffers_.fragments.clear();
+      buffers.depth = geo.view.visibility().depth;
+      buffers.fragments.clear();
     } else {
-      classify_samples(geo.view, cam, jobs_, geo.pixel_ids, buffers_.depth, buffers_.fragments,
-                       geo.fragment_rows);
+      classify_samples(geo.view, cam, jobs, geo.pixel_ids, buffers.depth, buffers.fragments, geo.fragment_rows);
     }
-    view_distances(cam, w, h, buffers_.depth, buffers_.distance, jobs_);
+    view_distances(cam, w, h, buffers.depth, buffers.distance, jobs);
   });
 
-  // Plugins declare their passes after the engine's inputs exist, so their
-  // reads of "shadow_map", "depth" and "light_environment" resolve to them.
-  for (auto& p : plugins_) p->add_passes(graph, ctx);
+  // The light-environment provider declares its passes first: every other
+  // plugin's passes and the shade pass read the light it writes.
+  if (light_provider_) light_provider_->add_passes(graph, ctx, engine);
+  for (auto& p : plugins_) {
+    if (p.get() == light_provider_) continue;
+    const FrameGraphHandle light = engine.light;
+    p->add_passes(graph, ctx, engine);
+    if (engine.light.version() != light.version())
+      throw Error("plugin '" + p->name() + "' writes the light environment but does not provide it");
+  }
 
   // An orthographic view's rays are parallel: shading takes its view vectors
   // from a point 10^7 m back along them, whose directions differ from -forward
   // by less than the scene's extent / 10^7 radians.
   const glm::dvec3 eye = cam.orthographic ? cam.position - glm::dvec3(cam.forward) * 1e7 : cam.position;
-  const ShadingInputs shading{&scene_, &light_, &shadow_, eye, emissive_luminance(description_)};
-  // Built by the passes that shade: the light and shadow passes have run then.
-  std::optional<SurfaceShader> shader;
+  const float emissive = emissive_luminance(description_);
+  // The shader of a pass that shades, from the light and shadow it reads.
+  auto shader_of = [this, eye, emissive](const Resources& r, FrameGraphId<LightEnvironment> light,
+                                         FrameGraphId<ShadowMap> shadow) {
+    return SurfaceShader(ShadingInputs{&scene_, &r.get(light), &r.get(shadow), eye, emissive});
+  };
   // TEXCOORD_1 is interpolated for materials reading it; most scenes have none.
   const bool any_uv1 =
       std::any_of(scene_.materials.begin(), scene_.materials.end(), [](const Material& m) { return needs_uv1(m); });
   // The triangle a visibility-buffer id names, in world space, and its material.
-  auto triangle_of = [this, &geo, any_uv1](uint32_t id, const Material*& material) {
+  auto triangle_of = [this, any_uv1](const Geometry& geo, uint32_t id, const Material*& material) {
     const TriangleRef r = geo.view.ref(id);
     const Draw& d = scene_.draws[r.draw_index];
     const Primitive& prim = scene_.primitive(d);
@@ -291,23 +340,35 @@ const FrameRecord& Renderer::render_frame(int frame) {
                            any_uv1 && needs_uv1(*material));
   };
 
-  graph.add_pass("shade", [](FrameGraph::Builder& b) {
-    b.read("visibility").read("shadow_map").read("light_environment").write("hdr_color");
-  }, [this, &geo, &triangle_of, &shader, &shading, w, h] {
-    shader.emplace(shading);
+  struct ShadeData {
+    FrameGraphId<Geometry> visibility;
+    FrameGraphId<ShadowMap> shadow;
+    FrameGraphId<LightEnvironment> light;
+    FrameGraphId<FrameBuffers> color;
+  };
+  graph.add_pass<ShadeData>("shade", [&](Builder& b, ShadeData& d) {
+    d.visibility = b.read(visibility);
+    d.shadow = b.read(engine.shadow);
+    d.light = b.read(engine.light);
+    d.color = color = b.write(color);
+  }, [this, &triangle_of, &shader_of, emissive, w, h](const Resources& r, const ShadeData& d) {
+    const Geometry& geo = r.get(d.visibility);
+    FrameBuffers& buffers = r.get_mutable(d.color);
+    JobSystem& jobs = r.jobs();
+    const SurfaceShader shader = shader_of(r, d.light, d.shadow);
     const std::vector<uint32_t>& ids = profile_.msaa_samples == 1 ? geo.view.visibility().triangle : geo.pixel_ids;
     // Without a sky plugin the background is the ambient radiance: a flat sky.
     const glm::vec3 background = description_.ambient;
     std::vector<uint64_t> shaded_rows(size_t(h), 0);
-    jobs_.parallel_for("shade", size_t(h), 4, [&](size_t y0, size_t y1) {
+    jobs.parallel_for("shade", size_t(h), 4, [&](size_t y0, size_t y1) {
       // Pixels of a row are shaded in batches of runs of pixels on one triangle.
       ShadeQueue q;
       SurfaceBatch& surfaces = q.surfaces;
       const Material** materials = q.materials;
       size_t* where = q.where;
       auto flush = [&] {
-        q.flush(scene_, shading.emissive_luminance, *shader,
-                [&](size_t pixel, const glm::vec3& c) { buffers_.color[pixel] = c; });
+        q.flush(scene_, emissive, shader,
+                [&](size_t pixel, const glm::vec3& c) { buffers.color[pixel] = c; });
       };
       // Neighbouring pixels mostly see the same triangle: set it up once.
       uint32_t current_id = kNoTriangle;
@@ -319,12 +380,12 @@ const FrameRecord& Renderer::render_frame(int frame) {
         for (int x = 0; x < w;) {
           const size_t i = y * size_t(w) + size_t(x);
           if (ids[i] == kNoTriangle || is_edge_pixel(ids[i])) {  // edge pixels: their fragments, below
-            buffers_.color[i] = background;
+            buffers.color[i] = background;
             ++x;
             continue;
           }
           if (ids[i] != current_id) {
-            triangle.emplace(triangle_of(ids[i], material));
+            triangle.emplace(triangle_of(geo, ids[i], material));
             interp = &geo.view.interp(ids[i]);
             current_id = ids[i];
           }
@@ -347,14 +408,14 @@ const FrameRecord& Renderer::render_frame(int frame) {
     });
     // Edge pixels' fragments, each at its samples' centroid (inside its
     // triangle: no extrapolated attributes), in batches.
-    std::vector<EdgeFragment>& fragments = buffers_.fragments;
+    std::vector<EdgeFragment>& fragments = buffers.fragments;
     const std::vector<size_t> chunks = fragment_chunks(fragments, 256);
-    jobs_.parallel_for("shade fragments", chunks.size() - 1, 1, [&](size_t c0, size_t c1) {
+    jobs.parallel_for("shade fragments", chunks.size() - 1, 1, [&](size_t c0, size_t c1) {
       ShadeQueue q;
       SurfaceBatch& surfaces = q.surfaces;
       float px[SurfaceBatch::kCapacity], py[SurfaceBatch::kCapacity];
       auto flush = [&] {
-        q.flush(scene_, shading.emissive_luminance, *shader,
+        q.flush(scene_, emissive, shader,
                 [&](size_t f, const glm::vec3& c) { fragments[f].color = c; });
       };
       // A pixel's fragments lie on different triangles, its neighbours' on
@@ -373,7 +434,7 @@ const FrameRecord& Renderer::render_frame(int frame) {
       const Material* material = nullptr;
       for (size_t o = 0; o < order.size();) {
         const uint32_t id = order[o].first;
-        triangle.emplace(triangle_of(id, material));
+        triangle.emplace(triangle_of(geo, id, material));
         const TriangleInterp& interp = geo.view.interp(id);
         while (o < order.size() && order[o].first == id) {
           const int room = SurfaceBatch::kCapacity - surfaces.count;
@@ -394,68 +455,97 @@ const FrameRecord& Renderer::render_frame(int frame) {
     });
     uint64_t total = 0;
     for (uint64_t n : shaded_rows) total += n;  // fixed-order reduction
-    geo.pixels_shaded = total;
+    pixels_shaded_ = total;
   });
 
+  struct TransparentData {
+    FrameGraphId<Geometry> visibility;
+    FrameGraphId<ShadowMap> shadow;
+    FrameGraphId<LightEnvironment> light;
+    FrameGraphId<FrameBuffers> depth, color;
+  };
   if (!geo.blended.empty())
-    graph.add_pass("transparent", [](FrameGraph::Builder& b) { b.read("hdr_color").write("hdr_color"); },
-                 [this, &geo, &triangle_of, &shader, &shading, &cam, w] {
-    shader.emplace(shading);
-    std::vector<EdgeFragment>& fragments = buffers_.fragments;
+    graph.add_pass<TransparentData>("transparent", [&](Builder& b, TransparentData& d) {
+      // Blended draws rasterize through the view's rasterizer (its bins).
+      b.read(visibility);
+      d.visibility = visibility = b.write(visibility);
+      d.shadow = b.read(engine.shadow);
+      d.light = b.read(engine.light);
+      d.depth = b.read(engine.depth);
+      b.read(color);
+      d.color = color = b.write(color);
+    }, [this, &triangle_of, &shader_of, &cam, w](const Resources& r, const TransparentData& d) {
+    Geometry& geo = r.get_mutable(d.visibility);
+    FrameBuffers& buffers = r.get_mutable(d.color);
+    const SurfaceShader shader = shader_of(r, d.light, d.shadow);
+    std::vector<EdgeFragment>& fragments = buffers.fragments;
     // Over a share `coverage` of the pixel the surface blends with its alpha:
     // on the pixel's box that is alpha * coverage over all of it.
     auto blend = [](glm::vec3& dst, const glm::vec3& c, float a) { dst = dst * (1.0f - a) + c * a; };
     const FragmentFn fragment = [&](int x, int y, uint32_t id, const Barycentrics& bary, float coverage) {
       const Material* m = nullptr;
-      const SurfaceSample surface = triangle_of(id, m).at(bary);
-      const glm::vec4 shaded = shader->shade(*m, surface);
+      const SurfaceSample surface = triangle_of(geo, id, m).at(bary);
+      const glm::vec4 shaded = shader.shade(*m, surface);
       const glm::vec3 c(shaded);
       const float a = shaded.a * coverage;
       const size_t pixel = size_t(y) * size_t(w) + size_t(x);
-      blend(buffers_.color[pixel], c, a);
+      blend(buffers.color[pixel], c, a);
       if (fragments.empty() || !is_edge_pixel(geo.pixel_ids[pixel])) return;
       // An edge pixel: the surface, seen at its samples' centroid, covers the
       // fragments behind it (its coverage spread evenly over them).
-      const float d = float(glm::length(glm::dvec3(surface.position) - cam.position));
+      const float dist = float(glm::length(glm::dvec3(surface.position) - cam.position));
       for (size_t f = first_fragment(geo.pixel_ids[pixel]); f < fragments.size() && fragments[f].pixel == pixel; ++f)
-        if (fragments[f].distance > d) blend(fragments[f].color, c, a);
+        if (fragments[f].distance > dist) blend(fragments[f].color, c, a);
     };
-    geo.view.render_blended(jobs_, geo.blended, fragment,
-                            profile_.msaa_samples == 1 ? std::span<const float>() : std::span<const float>(buffers_.depth));
+    geo.view.render_blended(r.jobs(), geo.blended, fragment,
+                            profile_.msaa_samples == 1 ? std::span<const float>() : std::span<const float>(buffers.depth));
   });
 
   std::vector<Plugin*> compositors;
-  std::vector<std::string> composite_reads = {"hdr_color"};
   for (auto& p : plugins_)
-    if (p->has_composite()) {
-      compositors.push_back(p.get());
-      for (const std::string& r : p->composite_reads()) composite_reads.push_back(r);
-    }
+    if (p->has_composite()) compositors.push_back(p.get());
+  struct CompositeData {
+    FrameGraphId<FrameBuffers> depth, color;
+  };
   if (!compositors.empty())
-    graph.add_pass("composite", [&](FrameGraph::Builder& b) {
-      for (const std::string& r : composite_reads) b.read(r);
-      b.write("hdr_color");
-    }, [this, &ctx, &compositors, w, h] {
-      for_each_composite_strip(jobs_, "composite", w, h, [&](int x0, int y0, int x1, int y1) {
-        for (Plugin* p : compositors) p->composite(ctx, x0, y0, x1, y1);
+    graph.add_pass<CompositeData>("composite", [&](Builder& b, CompositeData& d) {
+      d.depth = b.read(engine.depth);
+      b.read(color);
+      for (Plugin* p : compositors)
+        for (const FrameGraphHandle& h : p->composite_reads()) b.read(h);
+      d.color = color = b.write(color);
+    }, [&compositors, w, h](const Resources& r, const CompositeData& d) {
+      FrameBuffers& buffers = r.get_mutable(d.color);
+      JobSystem& jobs = r.jobs();
+      for_each_composite_strip(jobs, "composite", w, h, [&](int x0, int y0, int x1, int y1) {
+        for (Plugin* p : compositors) p->composite(buffers, x0, y0, x1, y1);
       });
-      std::vector<EdgeFragment>& fragments = buffers_.fragments;
+      std::vector<EdgeFragment>& fragments = buffers.fragments;
       const size_t grain = 512, n = (fragments.size() + grain - 1) / grain;
-      jobs_.parallel_for("composite fragments", n, 1, [&](size_t c0, size_t c1) {
+      jobs.parallel_for("composite fragments", n, 1, [&](size_t c0, size_t c1) {
         const size_t f0 = c0 * grain, f1 = std::min(c1 * grain, fragments.size());
-        for (Plugin* p : compositors) p->composite_fragments(ctx, std::span<EdgeFragment>(&fragments[f0], f1 - f0));
+        for (Plugin* p : compositors) p->composite_fragments(buffers, std::span<EdgeFragment>(&fragments[f0], f1 - f0));
       });
     });
 
-  graph.add_pass("resolve", [](FrameGraph::Builder& b) { b.read("hdr_color").write("frame"); }, [this, w, h] {
+  struct ResolveData {
+    FrameGraphId<FrameBuffers> color, display;
+  };
+  graph.add_pass<ResolveData>("resolve", [&](Builder& b, ResolveData& d) {
+    b.read(color);
+    d.color = color = b.write(color);  // edge pixels' fragments resolve into their pixels
+    d.display = display = b.write(display);
+  }, [this, w, h](const Resources& r, const ResolveData& d) {
+    FrameBuffers& buffers = r.get_mutable(d.color);
+    JobSystem& jobs = r.jobs();
     if (!display_ || display_->ev100() != description_.exposure_ev100)
       display_ = std::make_unique<DisplayTransform>(description_.exposure_ev100);
-    resolve_fragments(buffers_.fragments, buffers_.color, jobs_);
-    jobs_.parallel_for("resolve", size_t(h), 16, [&](size_t y0, size_t y1) {
-      display_->resolve(&buffers_.color[y0 * size_t(w)], (y1 - y0) * size_t(w), &buffers_.display[y0 * size_t(w) * 3]);
+    resolve_fragments(buffers.fragments, buffers.color, jobs);
+    jobs.parallel_for("resolve", size_t(h), 16, [&](size_t y0, size_t y1) {
+      display_->resolve(&buffers.color[y0 * size_t(w)], (y1 - y0) * size_t(w), &buffers.display[y0 * size_t(w) * 3]);
     });
   });
-  graph.mark_output("frame");
+  graph.mark_output(display);
 
   graph.compile();
   jobs_.take_records();
@@ -477,7 +567,7 @@ const FrameRecord& Renderer::render_frame(int frame) {
   record_.raster = {{"triangles_in", st.triangles_in},       {"triangles_culled", st.triangles_culled},
                     {"triangles_clipped", st.triangles_clipped}, {"triangles_visible", st.triangles_visible},
                     {"tile_triangle_pairs", st.tile_triangle_pairs}, {"pixels_covered", st.pixels_covered},
-                    {"pixels_shaded", geo.pixels_shaded},
+                    {"pixels_shaded", pixels_shaded_},
                     {"msaa_mixed_pixels", mixed_pixels}, {"edge_fragments", buffers_.fragments.size()},    {"draws_in_view", geo.opaque.size() + geo.blended.size()},
                     {"shadow_casters", geo.casters.size()}, {"shadow_map_reused", geo.shadow_reused}};
   for (auto& p : plugins_) p->report_frame(record_.plugins[p->name()]);

@@ -70,6 +70,7 @@ class Renderer {
   const Profile& profile_;
   JobSystem& jobs_;
   std::vector<std::unique_ptr<Plugin>> plugins_;
+  Plugin* light_provider_ = nullptr;  // the plugin providing the light environment, if any
   FrameBuffers buffers_;
   ShadowMap shadow_, previous_shadow_;
   LightEnvironment light_;
@@ -79,6 +80,7 @@ class Renderer {
   int last_frame_ = -1;
   Camera last_camera_;
   std::function<void(int)> pose_;  // empty: a still scene
+  uint64_t pixels_shaded_ = 0;  // by the last frame's shade pass
 };
 
 }  // namespace cr

@@ -128,5 +128,4 @@ TEST_CASE("the plugin: no fog section means no passes; bad profile sections are 
   CHECK(plugin.fog()->profile().slices == 16);
   CHECK(plugin.fog()->profile().fog_distance == 100.0f);  // the scene's distance wins
   CHECK(plugin.composite_order() == 200);
-  CHECK(plugin.composite_reads() == std::vector<std::string>{"fog.volume"});
 }

@@ -126,16 +126,16 @@ class DistancePlugin : public Plugin {
  public:
   std::string name() const override { return "distance"; }
   bool configure(const Scene&, const SceneDescription&, const Profile&) override { return true; }
-  void add_passes(FrameGraph&, FrameContext&) override {}
+  void add_passes(FrameGraph&, const FrameContext&, EngineResources&) override {}
   bool has_composite() const override { return true; }
   static glm::vec3 of(float distance) {
     return std::isfinite(distance) ? glm::vec3(1.0f / (1.0f + distance), 0.5f, 0.0f) : glm::vec3(0.0f, 0.0f, 9.0f);
   }
-  void composite(const FrameContext& ctx, int x0, int y0, int x1, int y1) override {
+  void composite(FrameBuffers& buffers, int x0, int y0, int x1, int y1) override {
     for (int y = y0; y < y1; ++y)
-      for (int x = x0; x < x1; ++x) ctx.buffers.color[ctx.buffers.index(x, y)] = of(ctx.buffers.distance[ctx.buffers.index(x, y)]);
+      for (int x = x0; x < x1; ++x) buffers.color[buffers.index(x, y)] = of(buffers.distance[buffers.index(x, y)]);
   }
-  void composite_fragments(const FrameContext&, std::span<EdgeFragment> fragments) override {
+  void composite_fragments(const FrameBuffers&, std::span<EdgeFragment> fragments) override {
     for (EdgeFragment& f : fragments) f.color = of(f.distance);
   }
 };

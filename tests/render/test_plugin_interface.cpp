@@ -4,38 +4,54 @@
 
 #include <atomic>
 
+#include "engine/core/error.h"
 #include "engine/render/frame_graph.h"
 #include "engine/render/renderer.h"
 #include "engine/scene/gltf_loader.h"
 
 namespace {
 
-// Paints the sky a constant colour, sets the ambient term, and declares one
-// pass nobody reads (which the frame graph must cull).
+// Paints the sky a constant colour, provides the light environment (no
+// ambient term), and declares one pass nobody reads (which the frame graph
+// must cull). `provides_light` false: it writes the light all the same, which
+// the renderer must refuse.
 class TintPlugin : public cr::Plugin {
  public:
-  explicit TintPlugin(bool used) : used_(used) {}
+  explicit TintPlugin(bool used, bool provides_light = true) : used_(used), provides_light_(provides_light) {}
   std::string name() const override { return "tint"; }
   bool configure(const cr::Scene&, const cr::SceneDescription&, const cr::Profile&) override { return used_; }
-  void add_passes(cr::FrameGraph& graph, cr::FrameContext& ctx) override {
-    graph.add_pass("tint.prepare", [](cr::FrameGraph::Builder& b) { b.write("tint.colour"); },
-                   [this] { prepared++; });
-    graph.add_pass("tint.light", [](cr::FrameGraph::Builder& b) { b.read("light_environment").write("light_environment"); },
-                   [this, &ctx] {
-                     ctx.light.ambient_sh = {};
-                     ctx.light.ambient_sh[0] = glm::vec3(0.0f);
-                     lit++;
-                   });
-    graph.add_pass("tint.unused", [](cr::FrameGraph::Builder& b) { b.write("tint.nobody_reads_this"); },
-                   [this] { unused_ran++; });
+  bool provides_light_environment() const override { return provides_light_; }
+  void add_passes(cr::FrameGraph& graph, const cr::FrameContext&, cr::EngineResources& engine) override {
+    using Builder = cr::FrameGraph::Builder;
+    using Resources = cr::FrameGraph::Resources;
+    struct Data {
+      cr::FrameGraphId<int> colour;
+      cr::FrameGraphId<cr::LightEnvironment> light;
+    };
+    colour_ = graph.create("tint.colour", colour_value_);
+    graph.add_pass<Data>("tint.prepare", [&](Builder& b, Data& d) { d.colour = colour_ = b.write(colour_); },
+                         [this](const Resources& r, const Data& d) {
+                           r.get_mutable(d.colour) = 1;
+                           prepared++;
+                         });
+    graph.add_pass<Data>("tint.light", [&](Builder& b, Data& d) { d.light = engine.light = b.write(engine.light); },
+                         [this](const Resources& r, const Data& d) {
+                           cr::LightEnvironment& light = r.get_mutable(d.light);
+                           light.ambient_sh = {};
+                           light.ambient_sh[0] = glm::vec3(0.0f);
+                           lit++;
+                         });
+    cr::FrameGraphId<int> unused = graph.create("tint.nobody_reads_this", unused_value_);
+    graph.add_pass<Data>("tint.unused", [&](Builder& b, Data& d) { d.colour = b.write(unused); },
+                         [this](const Resources&, const Data&) { unused_ran++; });
   }
-  std::vector<std::string> composite_reads() const override { return {"tint.colour"}; }
+  std::vector<cr::FrameGraphHandle> composite_reads() const override { return {colour_}; }
   bool has_composite() const override { return true; }
-  void composite(const cr::FrameContext& ctx, int x0, int y0, int x1, int y1) override {
+  void composite(cr::FrameBuffers& buffers, int x0, int y0, int x1, int y1) override {
     for (int y = y0; y < y1; ++y)
       for (int x = x0; x < x1; ++x) {
-        const size_t i = ctx.buffers.index(x, y);
-        if (ctx.buffers.depth[i] == 0.0f) ctx.buffers.color[i] = glm::vec3(1.0f, 2.0f, 3.0f);
+        const size_t i = buffers.index(x, y);
+        if (buffers.depth[i] == 0.0f && colour_value_ == 1) buffers.color[i] = glm::vec3(1.0f, 2.0f, 3.0f);
       }
   }
   void report_frame(nlohmann::json& frame) override { frame["prepared"] = prepared.load(); }
@@ -43,7 +59,9 @@ class TintPlugin : public cr::Plugin {
   std::atomic<int> prepared{0}, lit{0}, unused_ran{0};
 
  private:
-  bool used_;
+  bool used_, provides_light_;
+  int colour_value_ = 0, unused_value_ = 0;
+  cr::FrameGraphId<int> colour_;
 };
 
 struct Fixture {
@@ -92,4 +110,21 @@ TEST_CASE("a plugin the scene does not use adds no pass and costs nothing") {
   (void)p;  // destroyed with the renderer's rejected list: never touched
   for (const auto& pass : rec.passes) CHECK(pass.name.rfind("tint.", 0) != 0);
   CHECK(rec.plugins.empty());
+}
+
+TEST_CASE("only the plugin that provides the light environment may write it, and a scene may use one provider") {
+  Fixture f;
+  cr::JobSystem jobs(1);
+  {
+    std::vector<std::unique_ptr<cr::Plugin>> plugins;
+    plugins.push_back(std::make_unique<TintPlugin>(true, false));
+    cr::Renderer r(f.scene, f.description, f.profile, std::move(plugins), jobs);
+    CHECK_THROWS_WITH_AS(r.render_frame(0), "plugin 'tint' writes the light environment but does not provide it",
+                         cr::Error);
+  }
+  std::vector<std::unique_ptr<cr::Plugin>> plugins;
+  plugins.push_back(std::make_unique<TintPlugin>(true));
+  plugins.push_back(std::make_unique<TintPlugin>(true));
+  CHECK_THROWS_WITH_AS(cr::Renderer(f.scene, f.description, f.profile, std::move(plugins), jobs),
+                       doctest::Contains("both provide the light environment"), cr::InputError);
 }

@@ -32,7 +32,7 @@ class ProbePlugin : public cr::Plugin {
   explicit ProbePlugin(std::shared_ptr<Probe> probe) : probe_(std::move(probe)) {}
   std::string name() const override { return "probe"; }
   bool configure(const cr::Scene&, const cr::SceneDescription&, const cr::Profile&) override { return true; }
-  void add_passes(cr::FrameGraph&, cr::FrameContext&) override {}
+  void add_passes(cr::FrameGraph&, const cr::FrameContext&, cr::EngineResources&) override {}
   void report_frame(nlohmann::json&) override {
     const int frame = int(probe_->statuses.size());
     probe_->statuses.push_back(std::filesystem::exists(probe_->report_path)
