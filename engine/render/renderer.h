@@ -1,7 +1,8 @@
 #pragma once
 // Renders frames of a loaded scene: builds the frame graph each frame from
-// what the scene and plugins need (shadow, geometry, shade, plugin passes,
-// composite), runs it on the job system and keeps per-frame timing records.
+// what the scene and plugins need (the engine's passes, engine/render/passes/,
+// and the plugins'), runs it on the job system and keeps per-frame timing
+// records.
 // Frames must be rendered in increasing order (plugins keep temporal state).
 #include <functional>
 #include <memory>
@@ -23,6 +24,8 @@
 namespace cr {
 
 class DisplayTransform;
+struct ShadowPassState;
+struct Visibility;
 
 // Timing of one rendered frame.
 struct FrameRecord {
@@ -64,7 +67,6 @@ class Renderer {
   const std::vector<std::unique_ptr<Plugin>>& plugins() const { return plugins_; }
 
  private:
-  struct Geometry;  // the rasterizer's per-frame state
   const Scene& scene_;
   const SceneDescription& description_;
   const Profile& profile_;
@@ -74,11 +76,12 @@ class Renderer {
   FrameBuffers buffers_;
   ShadowMap shadow_, previous_shadow_;
   LightEnvironment light_;
-  std::unique_ptr<Geometry> geometry_;
+  std::unique_ptr<Visibility> visibility_;         // the geometry pass's rasterizer and draws
+  std::unique_ptr<ShadowPassState> shadow_state_;  // the shadow pass's rasterizer and casters
+  bool has_blended_draws_ = false;                 // the scene has alpha-BLEND draws: a transparent pass
   std::unique_ptr<DisplayTransform> display_;  // built once per exposure
   FrameRecord record_;
   int last_frame_ = -1;
-  Camera last_camera_;
   std::function<void(int)> pose_;  // empty: a still scene
   uint64_t pixels_shaded_ = 0;  // by the last frame's shade pass
 };

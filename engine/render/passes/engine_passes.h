@@ -1,0 +1,79 @@
+#pragma once
+// The engine's own passes, one file each: light, shadow, geometry, shade,
+// transparent, composite, resolve. Each adds itself to the frame graph,
+// reads and writes the engine's resources through their handles, and keeps
+// what it reuses across frames in the state struct it is given.
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "engine/core/profile.h"
+#include "engine/raster/tiled_rasterizer.h"
+#include "engine/render/edge_fragments.h"
+#include "engine/render/frame_buffers.h"
+#include "engine/render/frame_graph.h"
+#include "engine/render/plugin.h"
+#include "engine/scene/scene.h"
+#include "engine/scene/scene_description.h"
+
+namespace cr {
+
+class DisplayTransform;
+
+// The camera's visibility: the rasterizer (visibility buffer, bins), the
+// frame's draws in view (the blended ones back to front), its counts and,
+// with multisampling, the per-pixel ids and the fragment lists per tile row.
+struct Visibility {
+  TiledRasterizer raster;
+  std::vector<RasterDraw> opaque, blended;
+  RasterStats stats;
+  std::vector<uint32_t> pixel_ids;  // edge_pixel_id at edge pixels
+  FragmentRows fragment_rows;
+};
+
+// The sun's depth rasterizer, its casters and whether the last frame's map
+// was kept (the projection did not move).
+struct ShadowPassState {
+  TiledRasterizer raster;
+  std::vector<RasterDraw> casters;
+  bool reused = false;
+};
+
+// The engine's resources that plugins do not see.
+struct EngineTargets {
+  FrameGraphId<Visibility> visibility;
+  FrameGraphId<FrameBuffers> color;    // FrameBuffers::color and the edge fragments' colours
+  FrameGraphId<FrameBuffers> display;  // FrameBuffers::display
+};
+
+// The sun lights the scene (above the horizon, with some illuminance).
+inline bool sun_is_up(const FrameView& view) {
+  return view.sun_direction.y > 0.0f && glm::length(view.sun_illuminance) > 0.0f;
+}
+
+// "light": the scene file's sun and ambient terms (a plugin may replace them).
+void add_light_pass(FrameGraph& graph, const FrameContext& ctx, EngineResources& engine);
+// "shadow": the sun's shadow map, kept when its texel-snapped projection did
+// not move in a still scene (`scene_moves` false).
+void add_shadow_pass(FrameGraph& graph, const FrameContext& ctx, bool scene_moves, ShadowPassState& state,
+                     EngineResources& engine);
+// "geometry": frustum culling, back-to-front order of blended draws, the
+// visibility buffer, depth and view distances.
+void add_geometry_pass(FrameGraph& graph, const FrameContext& ctx, EngineResources& engine,
+                       EngineTargets& targets);
+// "shade": every pixel (and edge fragment) once from its triangle id;
+// `pixels_shaded` receives the count.
+void add_shade_pass(FrameGraph& graph, const FrameContext& ctx, const EngineResources& engine,
+                    EngineTargets& targets, uint64_t& pixels_shaded);
+// "transparent": the blended draws in view, over the shaded colour.
+void add_transparent_pass(FrameGraph& graph, const FrameContext& ctx, const EngineResources& engine,
+                          EngineTargets& targets);
+// "composite": the plugins' per-pixel composites, in their order.
+void add_composite_pass(FrameGraph& graph, const std::vector<Plugin*>& compositors, const EngineResources& engine,
+                        EngineTargets& targets);
+// "resolve": edge fragments into their pixels, exposure, tonemap, 8-bit sRGB.
+// `display` is rebuilt when the exposure changes.
+void add_resolve_pass(FrameGraph& graph, const FrameContext& ctx, std::unique_ptr<DisplayTransform>& display,
+                      EngineTargets& targets);
+
+}  // namespace cr

@@ -1,0 +1,33 @@
+#include "engine/render/passes/surface_lookup.h"
+
+#include <algorithm>
+
+#include "engine/render/passes/draw_materials.h"
+#include "engine/shading/material_eval.h"
+
+namespace cr {
+
+SurfaceLookup::SurfaceLookup(const Scene& scene)
+    : scene_(scene),
+      any_uv1_(std::any_of(scene.materials.begin(), scene.materials.end(),
+                           [](const Material& m) { return needs_uv1(m); })) {}
+
+TriangleSurface SurfaceLookup::triangle(const TiledRasterizer& raster, uint32_t id, const Material*& material) const {
+  const TriangleRef r = raster.ref(id);
+  const Draw& d = scene_.draws[r.draw_index];
+  const Primitive& prim = scene_.primitive(d);
+  material = &material_of(scene_, prim);
+  return TriangleSurface(prim, d, r.triangle_index, r.front_facing, needs_tangent(*material),
+                         any_uv1_ && needs_uv1(*material));
+}
+
+SurfaceShader frame_shader(const FrameContext& ctx, const LightEnvironment& light, const ShadowMap& shadow) {
+  const Camera& cam = ctx.view.camera;
+  // An orthographic view's rays are parallel: shading takes its view vectors
+  // from a point 10^7 m back along them, whose directions differ from -forward
+  // by less than the scene's extent / 10^7 radians.
+  const glm::dvec3 eye = cam.orthographic ? cam.position - glm::dvec3(cam.forward) * 1e7 : cam.position;
+  return SurfaceShader(ShadingInputs{&ctx.scene, &light, &shadow, eye, emissive_luminance(ctx.description)});
+}
+
+}  // namespace cr

@@ -1,0 +1,27 @@
+#pragma once
+// What the shading passes share: the surface a visibility-buffer id names,
+// and the frame's surface shader.
+#include "engine/raster/tiled_rasterizer.h"
+#include "engine/render/passes/engine_passes.h"
+#include "engine/shading/light_environment.h"
+#include "engine/shading/shade_surface.h"
+#include "engine/shading/shadow_map.h"
+#include "engine/shading/surface.h"
+
+namespace cr {
+
+class SurfaceLookup {
+ public:
+  explicit SurfaceLookup(const Scene& scene);
+  // The triangle `id` names, in world space, and its material.
+  TriangleSurface triangle(const TiledRasterizer& raster, uint32_t id, const Material*& material) const;
+
+ private:
+  const Scene& scene_;
+  bool any_uv1_;  // TEXCOORD_1 is interpolated for materials reading it; most scenes have none
+};
+
+// The shader of the frame's camera under `light` and `shadow`.
+SurfaceShader frame_shader(const FrameContext& ctx, const LightEnvironment& light, const ShadowMap& shadow);
+
+}  // namespace cr
