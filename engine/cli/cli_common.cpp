@@ -128,15 +128,8 @@ RunReport make_run_report(const RunSetup& setup, const JobSystem& jobs) {
   return r;
 }
 
-ReportFrame to_report_frame(const FrameRecord& rec) {
-  ReportFrame f;
-  f.frame = rec.frame;
-  f.frame_ms = rec.frame_ms;
-  f.begin_us = rec.begin_us;
-  for (const PassTiming& p : rec.passes) f.passes.push_back({p.name, p.begin_us, p.end_us});
-  f.culled = rec.culled;
-  for (const JobRecord& j : rec.jobs) f.jobs.push_back({j.name, j.worker, j.begin_us, j.end_us});
-  f.plugins = rec.plugins;
+FrameTiming to_report_frame(const FrameRecord& rec) {
+  FrameTiming f = rec;
   f.plugins["raster"] = rec.raster;
   return f;
 }

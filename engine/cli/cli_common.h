@@ -54,7 +54,7 @@ RunSetup load_run(const std::string& scene_path, const std::string& profile, con
 void attach_playback(Renderer& renderer, const RunSetup& setup);
 
 RunReport make_run_report(const RunSetup& setup, const JobSystem& jobs);
-ReportFrame to_report_frame(const FrameRecord& record);
+FrameTiming to_report_frame(const FrameRecord& record);
 
 // The resolved (exposed, tonemapped, sRGB) frame as an RGB8 PNG (atomic).
 void write_frame_png(const std::string& path, const FrameBuffers& buffers);

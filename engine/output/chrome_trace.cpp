@@ -45,8 +45,8 @@ nlohmann::json thread_metadata(int tid, const std::string& name, int sort_index)
 
 nlohmann::json chrome_trace_json(const RunReport& report) {
   uint32_t workers = std::max(1u, report.threads);
-  for (const ReportFrame& frame : report.frames)
-    for (const ReportJob& job : frame.jobs) workers = std::max(workers, job.worker + 1);
+  for (const FrameTiming& frame : report.frames)
+    for (const JobRecord& job : frame.jobs) workers = std::max(workers, job.worker + 1);
 
   nlohmann::json events = nlohmann::json::array();
   const int frames_tid = static_cast<int>(workers) + 1;
@@ -54,17 +54,17 @@ nlohmann::json chrome_trace_json(const RunReport& report) {
 
   // Pass rows: each pass goes to the first row whose last pass has ended.
   std::vector<int64_t> lane_end_ns;
-  for (const ReportFrame& frame : report.frames) {
+  for (const FrameTiming& frame : report.frames) {
     const int64_t frame_begin = to_ns(frame.begin_us);
     events.push_back(complete_event("frame " + std::to_string(frame.frame), "frame", frames_tid,
                                     frame_begin, frame_begin + to_ns(frame.frame_ms * 1000.0),
                                     {{"frame", frame.frame}, {"frame_ms", frame.frame_ms}}));
 
-    std::vector<const ReportPass*> passes;
-    for (const ReportPass& pass : frame.passes) passes.push_back(&pass);
+    std::vector<const PassTiming*> passes;
+    for (const PassTiming& pass : frame.passes) passes.push_back(&pass);
     std::stable_sort(passes.begin(), passes.end(),
-                     [](const ReportPass* a, const ReportPass* b) { return a->begin_us < b->begin_us; });
-    for (const ReportPass* pass : passes) {
+                     [](const PassTiming* a, const PassTiming* b) { return a->begin_us < b->begin_us; });
+    for (const PassTiming* pass : passes) {
       const int64_t begin = to_ns(pass->begin_us), end = to_ns(pass->end_us);
       size_t lane = 0;
       while (lane < lane_end_ns.size() && lane_end_ns[lane] > begin) ++lane;
@@ -74,7 +74,7 @@ nlohmann::json chrome_trace_json(const RunReport& report) {
                                       begin, end, {{"frame", frame.frame}, {"ms", pass->ms()}}));
     }
 
-    for (const ReportJob& job : frame.jobs) {
+    for (const JobRecord& job : frame.jobs) {
       events.push_back(complete_event(job.name, "job", static_cast<int>(job.worker) + 1,
                                       to_ns(job.begin_us), to_ns(job.end_us),
                                       {{"frame", frame.frame}}));

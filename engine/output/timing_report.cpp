@@ -44,13 +44,13 @@ struct JobStats {
   double busy_total_ms() const { return std::accumulate(busy_ms.begin(), busy_ms.end(), 0.0); }
 };
 
-JobStats job_stats(const ReportFrame& frame, unsigned threads) {
+JobStats job_stats(const FrameTiming& frame, unsigned threads) {
   uint32_t workers = std::max(1u, threads);
-  for (const ReportJob& job : frame.jobs) workers = std::max(workers, job.worker + 1);
+  for (const JobRecord& job : frame.jobs) workers = std::max(workers, job.worker + 1);
   std::vector<std::vector<std::pair<double, double>>> intervals(workers);
   JobStats stats;
   stats.jobs_per_worker.assign(workers, 0);
-  for (const ReportJob& job : frame.jobs) {
+  for (const JobRecord& job : frame.jobs) {
     intervals[job.worker].emplace_back(job.begin_us, job.end_us);
     stats.total_ms += (job.end_us - job.begin_us) * 1e-3;
     ++stats.jobs_per_worker[job.worker];
@@ -77,8 +77,8 @@ nlohmann::json distribution(const std::vector<double>& samples) {
 std::vector<std::pair<std::string, std::vector<double>>> pass_samples(const RunReport& report) {
   std::vector<std::pair<std::string, std::vector<double>>> passes;
   std::map<std::string, size_t> index;
-  for (const ReportFrame& frame : report.frames) {
-    for (const ReportPass& pass : frame.passes) {
+  for (const FrameTiming& frame : report.frames) {
+    for (const PassTiming& pass : frame.passes) {
       auto [it, inserted] = index.emplace(pass.name, passes.size());
       if (inserted) passes.emplace_back(pass.name, std::vector<double>{});
       passes[it->second].second.push_back(pass.ms());
@@ -91,12 +91,12 @@ size_t frames_over_budget(const RunReport& report) {
   if (report.frame_budget_ms <= 0.0) return 0;
   return static_cast<size_t>(std::count_if(
       report.frames.begin(), report.frames.end(),
-      [&](const ReportFrame& f) { return f.frame_ms > report.frame_budget_ms; }));
+      [&](const FrameTiming& f) { return f.frame_ms > report.frame_budget_ms; }));
 }
 
-nlohmann::json frame_to_json(const ReportFrame& frame, const RunReport& report) {
+nlohmann::json frame_to_json(const FrameTiming& frame, const RunReport& report) {
   nlohmann::json passes = nlohmann::json::array();
-  for (const ReportPass& pass : frame.passes) {
+  for (const PassTiming& pass : frame.passes) {
     passes.push_back({{"name", pass.name},
                       {"ms", pass.ms()},
                       {"start_ms", (pass.begin_us - frame.begin_us) * 1e-3}});
@@ -126,7 +126,7 @@ nlohmann::json summary_to_json(const RunReport& report) {
   std::vector<double> frame_ms;
   double busy_ms = 0.0, available_ms = 0.0;
   size_t jobs = 0;
-  for (const ReportFrame& frame : report.frames) {
+  for (const FrameTiming& frame : report.frames) {
     frame_ms.push_back(frame.frame_ms);
     const JobStats stats = job_stats(frame, report.threads);
     jobs += stats.count;
@@ -183,7 +183,7 @@ std::string compiler_description() {
 
 nlohmann::json report_to_json(const RunReport& report) {
   nlohmann::json frames = nlohmann::json::array();
-  for (const ReportFrame& frame : report.frames) frames.push_back(frame_to_json(frame, report));
+  for (const FrameTiming& frame : report.frames) frames.push_back(frame_to_json(frame, report));
   return {
       {"format", "cpurender-run-report"},
       {"version", 1},
@@ -208,7 +208,7 @@ void write_report_json(const std::string& path, const RunReport& report) {
 
 std::string format_summary(const RunReport& report) {
   std::vector<double> frame_ms;
-  for (const ReportFrame& frame : report.frames) frame_ms.push_back(frame.frame_ms);
+  for (const FrameTiming& frame : report.frames) frame_ms.push_back(frame.frame_ms);
   std::string out;
   char line[256];
   std::snprintf(line, sizeof line, "%s | %s | %dx%d | %u threads\n", report.scene.c_str(),

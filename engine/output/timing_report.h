@@ -1,39 +1,17 @@
 #pragma once
 // Run reports: per-frame pass and job timings, summarised into percentiles
 // and budget counts, as JSON (for tools) and as a terminal table (for people).
-// These are plain structs so this layer does not depend on the renderer; the
-// renderer copies its FrameRecords into them.
+// Frames are FrameTimings (engine/core/frame_timing.h), the renderer's own
+// records, so this layer does not depend on the renderer.
 #include <cstdint>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "engine/core/frame_timing.h"
+
 namespace cr {
-
-struct ReportPass {
-  std::string name;
-  double begin_us = 0.0;  // job-system clock
-  double end_us = 0.0;
-  double ms() const { return (end_us - begin_us) * 1e-3; }
-};
-
-struct ReportJob {
-  std::string name;
-  uint32_t worker = 0;  // 0 = main thread
-  double begin_us = 0.0;
-  double end_us = 0.0;
-};
-
-struct ReportFrame {
-  int frame = 0;
-  double begin_us = 0.0;               // job-system clock at frame start
-  double frame_ms = 0.0;               // wall time of the frame
-  std::vector<ReportPass> passes;      // executed passes
-  std::vector<std::string> culled;     // passes the frame graph removed
-  std::vector<ReportJob> jobs;
-  nlohmann::json plugins = nlohmann::json::object();  // plugin entries by plugin name
-};
 
 struct BuildInfo {
   std::string compiler;    // e.g. compiler_description()
@@ -55,7 +33,7 @@ struct RunReport {
   int height = 0;
   unsigned threads = 1;
   double frame_budget_ms = 0.0;  // <= 0: no budget
-  std::vector<ReportFrame> frames;
+  std::vector<FrameTiming> frames;
   BuildInfo build;
   nlohmann::json extra = nlohmann::json::object();
 };

@@ -22,16 +22,10 @@
 #include <typeinfo>
 #include <vector>
 
+#include "engine/core/frame_timing.h"
 #include "engine/core/job_system.h"
 
 namespace cr {
-
-struct PassTiming {
-  std::string name;
-  double begin_us = 0.0;  // job-system clock
-  double end_us = 0.0;
-  double ms() const { return (end_us - begin_us) * 1e-3; }
-};
 
 // A resource at one version; default-constructed: no resource.
 class FrameGraphHandle {

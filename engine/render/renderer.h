@@ -27,16 +27,9 @@ class DisplayTransform;
 struct ShadowPassState;
 struct Visibility;
 
-// Timing of one rendered frame.
-struct FrameRecord {
-  int frame = 0;
-  double begin_us = 0.0;                 // job-system clock at frame start
-  double frame_ms = 0.0;                 // wall time of the whole frame graph
-  std::vector<PassTiming> passes;        // executed passes, declaration order
-  std::vector<std::string> culled;       // passes removed by the graph compiler
-  std::vector<JobRecord> jobs;           // every job of the frame
-  nlohmann::json plugins = nlohmann::json::object();  // plugin report entries by plugin name
-  nlohmann::json raster = nlohmann::json::object();   // rasterizer counts (triangles, pixels)
+// Timing of one rendered frame and its rasterizer counts.
+struct FrameRecord : FrameTiming {
+  nlohmann::json raster = nlohmann::json::object();  // triangles, pixels, fragments, draws
 };
 
 class Renderer {

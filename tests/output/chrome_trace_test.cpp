@@ -18,7 +18,7 @@ cr::RunReport two_frames() {
   report.profile = "p";
   report.threads = 3;
   for (int f = 0; f < 2; ++f) {
-    cr::ReportFrame frame;
+    cr::FrameTiming frame;
     frame.frame = f;
     frame.begin_us = f * 20000.0;
     frame.frame_ms = 15.0;

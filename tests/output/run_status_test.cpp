@@ -16,8 +16,8 @@ namespace {
 
 nlohmann::json read_json(const std::string& path) { return nlohmann::json::parse(cr::read_file_bytes(path)); }
 
-cr::ReportFrame frame(int index) {
-  cr::ReportFrame f;
+cr::FrameTiming frame(int index) {
+  cr::FrameTiming f;
   f.frame = index;
   f.frame_ms = 1.0;
   return f;

@@ -20,7 +20,7 @@ cr::RunReport hundred_frames() {
   report.threads = 2;
   report.frame_budget_ms = 33.3;
   for (int f = 0; f < 100; ++f) {
-    cr::ReportFrame frame;
+    cr::FrameTiming frame;
     frame.frame = f;
     frame.begin_us = f * 1e6;
     frame.frame_ms = f + 1;
@@ -85,7 +85,7 @@ TEST_CASE("report summary: frame percentiles, budget overruns, per-pass statisti
 TEST_CASE("job statistics count nested jobs once per worker") {
   cr::RunReport report;
   report.threads = 3;
-  cr::ReportFrame frame;
+  cr::FrameTiming frame;
   frame.frame_ms = 10.0;
   // Worker 0 runs a pass job 0..8 ms and, nested inside, loop chunks 1..3 and 2..4 ms.
   frame.jobs = {{"pass", 0, 0.0, 8000.0},
