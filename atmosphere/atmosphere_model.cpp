@@ -6,6 +6,7 @@
 #include "atmosphere/config_fields.h"
 #include "atmosphere/atmosphere_density.h"
 #include "engine/core/error.h"
+#include "engine/core/math_constants.h"
 
 namespace cr {
 
@@ -138,7 +139,7 @@ AtmosphereSceneConfig parse_atmosphere_scene(const nlohmann::json& section, cons
   m.ozone_absorption *= ozone_scale;
   m.ground_albedo = f.color("ground_albedo", m.ground_albedo, -big, big);
   m.sun_angular_radius =
-      float(f.number("sun_angular_radius_deg", double(m.sun_angular_radius) * 180.0 / M_PI, -big, big) * M_PI /
+      float(f.number("sun_angular_radius_deg", double(m.sun_angular_radius) * 180.0 / kPiD, -big, big) * kPiD /
             180.0);
   c.ground_altitude = f.number("ground_altitude_m", 0.0, -12000.0, 1e7);
   f.finish();

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <cstdint>
 
+#include "engine/core/math_constants.h"
+
 namespace cr {
 
 // acos on [-1, 1], |error| <= 2e-8 rad (Abramowitz & Stegun 4.4.46).
@@ -19,7 +21,7 @@ inline float fast_acos(float x) {
   p = p * ax - 0.2145988016f;
   p = p * ax + 1.5707963050f;
   const float a = std::sqrt(1.0f - ax) * p;
-  return x >= 0.0f ? a : 3.14159265358979f - a;
+  return x >= 0.0f ? a : kPi - a;
 }
 
 // exp(x) for x <= 0 (ray-march densities and transmittances), relative error

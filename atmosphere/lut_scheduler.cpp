@@ -4,19 +4,21 @@
 #include <chrono>
 #include <cmath>
 
+#include "engine/core/math_constants.h"
+
 namespace cr {
 
 namespace {
 
 double angle_deg(const glm::vec3& a, const glm::vec3& b) {
   const double c = std::clamp(double(glm::dot(a, b)), -1.0, 1.0);
-  return std::acos(c) * 180.0 / M_PI;
+  return std::acos(c) * 180.0 / kPiD;
 }
 
 double sun_zenith_deg(const FroxelCamera& c) {
   const glm::dvec3 up = c.position / glm::length(c.position);
   const double mu = std::clamp(glm::dot(glm::dvec3(c.sun_direction), up), -1.0, 1.0);
-  return std::acos(mu) * 180.0 / M_PI;
+  return std::acos(mu) * 180.0 / kPiD;
 }
 
 // The altitude a sky-view LUT is built for: the ground below it, and inside

@@ -10,6 +10,7 @@
 #include "atmosphere/float4.h"
 #include "atmosphere/phase_functions.h"
 #include "atmosphere/planet_geometry.h"
+#include "engine/core/math_constants.h"
 
 namespace cr {
 
@@ -82,7 +83,7 @@ glm::vec3 ground_irradiance_per_unit_field(const AtmosphereModel& m, int bands, 
         throughput[c] *= step_t;
       }
     }
-    e += l * float(4.0 * M_PI * band.weight * band.cos_p);  // solid angle (the band's sphere share * 4 pi) * cos
+    e += l * float(4.0 * kPiD * band.weight * band.cos_p);  // solid angle (the band's sphere share * 4 pi) * cos
   }
   return e;
 }
@@ -109,7 +110,7 @@ AltitudeMarch march_altitude(const AtmosphereModel& m, const TransmittanceLut* l
   am.dir_x.assign(size_t(dir_count), 0.0f);
   am.dir_y.assign(size_t(dir_count), 0.0f);
   for (int a = 0; a < half; ++a) {
-    const double azimuth = 2.0 * M_PI * (double(a) + 0.5) / n;
+    const double azimuth = 2.0 * kPiD * (double(a) + 0.5) / n;
     for (int b = 0; b < n; ++b) {
       const int d = a * n + b;
       const PolarBand band = polar_band(b, n, mu_horizon);

@@ -7,10 +7,10 @@
 #include <cmath>
 
 #include "atmosphere/atmosphere_model.h"
+#include "engine/core/math_constants.h"
 
 namespace cr {
 
-inline constexpr float kPi = 3.14159265358979f;
 inline constexpr float kIsotropicPhase = 1.0f / (4.0f * kPi);
 
 inline float rayleigh_phase(float cos_theta) {
@@ -50,7 +50,7 @@ inline std::array<double, 2> mie_legendre_coefficients(const AtmosphereModel& m)
     k1 += p * c;
     k2 += p * 0.5 * (3.0 * c * c - 1.0);
   }
-  return {2.0 * M_PI * k1, 2.0 * M_PI * k2};
+  return {2.0 * kPiD * k1, 2.0 * kPiD * k2};
 }
 
 }  // namespace cr

@@ -5,13 +5,14 @@
 #include <cmath>
 
 #include "atmosphere/sky_composite.h"
+#include "engine/core/math_constants.h"
 
 namespace cr {
 
 namespace {
 
 double angle_deg(const glm::dvec3& a, const glm::dvec3& b) {
-  return std::acos(std::clamp(glm::dot(a, b), -1.0, 1.0)) * 180.0 / M_PI;
+  return std::acos(std::clamp(glm::dot(a, b), -1.0, 1.0)) * 180.0 / kPiD;
 }
 
 }  // namespace

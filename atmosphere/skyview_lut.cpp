@@ -5,6 +5,7 @@
 
 #include "atmosphere/fast_math.h"
 #include "atmosphere/planet_geometry.h"
+#include "engine/core/math_constants.h"
 
 namespace cr {
 
@@ -13,9 +14,9 @@ SkyViewMapping::SkyViewMapping(double ground_radius, double top_radius, double a
   const double to_horizon = std::sqrt(h * (2.0 * ground_radius + h));
   const double b = std::atan2(ground_radius, to_horizon);  // precise even a metre above the ground
   beta = float(b);
-  zenith_horizon_angle = float(M_PI - b);
+  zenith_horizon_angle = float(kPiD - b);
   const double r = ground_radius + h;
-  first_angle = r > top_radius ? float(M_PI - std::asin(top_radius / r)) : 0.0f;
+  first_angle = r > top_radius ? float(kPiD - std::asin(top_radius / r)) : 0.0f;
 }
 
 void SkyViewMapping::from_unit(glm::vec2 unit, double& cos_view_zenith, double& cos_longitude) const {

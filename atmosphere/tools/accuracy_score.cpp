@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "engine/core/math_constants.h"
 #include "engine/output/percentile.h"
 
 namespace cr {
@@ -52,7 +53,7 @@ AccuracyScore score_accuracy(const std::vector<float>& lut_luminance, const std:
   s.noise_mean /= count;
   s.p95 = percentile_nearest_rank(errors, 95.0);
   s.noise_p95 = percentile_nearest_rank(noise, 95.0);
-  s.noise_expected = std::sqrt(2.0 / M_PI) * s.noise_mean;
+  s.noise_expected = std::sqrt(2.0 / kPiD) * s.noise_mean;
   s.rms = std::sqrt(sq / count);
   s.noise_rms = std::sqrt(noise_sq / count);
   s.bias_rms = std::sqrt(std::max(0.0, s.rms * s.rms - s.noise_rms * s.noise_rms));

@@ -4,11 +4,11 @@
 #include <atomic>
 #include <cmath>
 
+#include "engine/core/math_constants.h"
+
 namespace cr {
 
 namespace {
-
-constexpr double kPiD = 3.14159265358979323846;
 
 struct Rng {
   uint64_t state;

@@ -15,6 +15,7 @@
 #include "atmosphere/tools/sky_case.h"
 #include "atmosphere/tools/sky_commands.h"
 #include "engine/core/error.h"
+#include "engine/core/math_constants.h"
 #include "engine/output/exr_io.h"
 
 namespace cr {
@@ -25,9 +26,9 @@ namespace {
 std::vector<glm::vec3> panorama(int width, int height, double top_deg, double bottom_deg) {
   std::vector<glm::vec3> d(size_t(width) * height);
   for (int y = 0; y < height; ++y) {
-    const double e = (top_deg - (y + 0.5) / height * (top_deg - bottom_deg)) * M_PI / 180.0;
+    const double e = (top_deg - (y + 0.5) / height * (top_deg - bottom_deg)) * kPiD / 180.0;
     for (int x = 0; x < width; ++x) {
-      const double a = 2.0 * M_PI * (x + 0.5) / width;
+      const double a = 2.0 * kPiD * (x + 0.5) / width;
       d[size_t(y) * width + x] = glm::vec3(float(std::cos(e) * std::cos(a)), float(std::sin(e)),
                                            float(std::cos(e) * std::sin(a)));
     }

@@ -14,6 +14,7 @@
 #include "atmosphere/sky_composite.h"
 #include "atmosphere/tools/sky_case.h"
 #include "atmosphere/tools/sky_commands.h"
+#include "engine/core/math_constants.h"
 #include "engine/output/percentile.h"
 #include "engine/render/composite_strips.h"
 #include "engine/render/frame_buffers.h"
@@ -249,10 +250,10 @@ int sky_bench_command(const std::vector<std::string>& args) {
   for (int f = 0; f < frames; ++f) {
     const double t = double(f);
     const glm::dvec3 pos(t * 3.0, altitude + t * 0.5, t * 1.0);
-    const double yaw = t * 0.2 * M_PI / 180.0;
+    const double yaw = t * 0.2 * kPiD / 180.0;
     const Camera pc = Camera::look_at(pos, pos + glm::dvec3(std::cos(yaw), -0.05, std::sin(yaw)), 1.0471976f,
                                       float(pw) / float(ph), 0.1f);
-    const double elev = (30.0 - t * 0.1) * M_PI / 180.0;  // setting sun, 0.1 deg per frame
+    const double elev = (30.0 - t * 0.1) * kPiD / 180.0;  // setting sun, 0.1 deg per frame
     const glm::vec3 ps(float(std::cos(elev) * 0.8), float(std::sin(elev)), float(std::cos(elev) * 0.6));
     update_sky_case(amortised_case, f, pc, glm::normalize(ps), e, jobs);
     update_sky_case(full_case, f, pc, glm::normalize(ps), e, jobs);

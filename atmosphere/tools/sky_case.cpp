@@ -9,6 +9,7 @@
 
 #include "atmosphere/planet_frame.h"
 #include "engine/core/error.h"
+#include "engine/core/math_constants.h"
 
 namespace cr {
 
@@ -83,7 +84,7 @@ Camera horizon_camera(double altitude, int width, int height) {
 }
 
 glm::vec3 sun_at_zenith_angle(double zenith_deg) {
-  const double z = zenith_deg * M_PI / 180.0;
+  const double z = zenith_deg * kPiD / 180.0;
   return glm::vec3(float(std::sin(z)), float(std::cos(z)), 0.0f);
 }
 

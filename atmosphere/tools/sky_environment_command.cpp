@@ -12,6 +12,7 @@
 #include "atmosphere/sky_lighting.h"
 #include "atmosphere/tools/sky_case.h"
 #include "atmosphere/tools/sky_commands.h"
+#include "engine/core/math_constants.h"
 #include "engine/shading/brdf.h"
 #include "engine/shading/environment_brdf.h"
 #include "engine/shading/ggx_sampling.h"
@@ -166,7 +167,7 @@ int sky_environment_command(const std::vector<std::string>& args) {
     fill_light_environment(c.frame, light);
     const glm::vec3 e_sky = sh_irradiance(light.ambient_sh, up);
     const glm::vec3 e_sun = light.sun_illuminance * std::max(glm::dot(light.sun_direction, up), 0.0f);
-    const glm::vec3 lambert = c.frame.model.ground_albedo * (e_sun + e_sky) / kBrdfPi;
+    const glm::vec3 lambert = c.frame.model.ground_albedo * (e_sun + e_sky) / kPi;
     std::printf("\nsun zenith %.0f deg, camera %.0f m (bake %.2f ms, %u threads): nadir ground %.0f cd/m^2 in the LUT, "
                 "albedo/pi (sun %.0f + sky %.0f lx) = %.0f (ratio %.3f)\n",
                 zenith, altitude, bake, all_threads, double(luminance(nadir)), double(luminance(e_sun)),
@@ -225,10 +226,10 @@ int sky_environment_command(const std::vector<std::string>& args) {
   for (int f = 0; f < frames; ++f) {
     const double t = double(f);
     const glm::dvec3 pos(t * 3.0, altitude + t * 0.5, t * 1.0);
-    const double yaw = t * 0.2 * M_PI / 180.0;
+    const double yaw = t * 0.2 * kPiD / 180.0;
     const Camera pc = Camera::look_at(pos, pos + glm::dvec3(std::cos(yaw), -0.05, std::sin(yaw)), 1.0471976f,
                                       16.0f / 9.0f, 0.1f);
-    const double elev = (30.0 - t * 0.1) * M_PI / 180.0;
+    const double elev = (30.0 - t * 0.1) * kPiD / 180.0;
     const glm::vec3 ps(float(std::cos(elev) * 0.8), float(std::sin(elev)), float(std::cos(elev) * 0.6));
     update_sky_case(c, f, pc, glm::normalize(ps), e, jobs);
     const uint64_t upstream = c.luts->version(LutKind::MultiScattering);

@@ -12,12 +12,13 @@
 //   per pixel: dE = dEc ^ (1 - dEf), in [0,1] (0 = identical).
 #include <vector>
 
+#include "engine/core/math_constants.h"
 #include "engine/output/image.h"
 
 namespace cr {
 
 // 0.7 m viewing distance, 0.7 m wide monitor of 3840 pixels (the paper's default).
-constexpr double kFlipDefaultPixelsPerDegree = 0.7 * (3840.0 / 0.7) * 3.14159265358979323846 / 180.0;
+constexpr double kFlipDefaultPixelsPerDegree = 0.7 * (3840.0 / 0.7) * kPiD / 180.0;
 
 // Per-pixel FLIP error (row-major) between two same-size images of linear
 // RGB values; values are clamped to [0,1] first (for display-encoded inputs

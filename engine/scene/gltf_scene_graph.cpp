@@ -8,6 +8,7 @@
 #include <glm/gtc/constants.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
+#include "engine/core/math_constants.h"
 #include "engine/scene/gltf_animation.h"
 #include "engine/scene/gltf_instancing.h"
 #include "engine/scene/gltf_morph.h"
@@ -234,7 +235,7 @@ GltfCamera camera_projection(const GltfContext& ctx, int camera, size_t& negativ
   }
   if (c.type != "perspective") ctx.fail(label + " has unknown type \"" + c.type + "\"");
   const tinygltf::PerspectiveCamera& p = c.perspective;
-  if (!std::isfinite(p.yfov) || p.yfov <= 0.0 || p.yfov >= glm::pi<double>()) ctx.fail(label + " yfov must be in (0, pi)");
+  if (!std::isfinite(p.yfov) || p.yfov <= 0.0 || p.yfov >= kPiD) ctx.fail(label + " yfov must be in (0, pi)");
   if (!std::isfinite(p.znear) || p.znear <= 0.0) ctx.fail(label + " znear must be finite and > 0");
   if (!std::isfinite(p.aspectRatio) || p.aspectRatio < 0.0) ctx.fail(label + " aspectRatio must be finite and > 0");
   // tinygltf reads an absent zfar (an infinite projection) as 0.

@@ -15,6 +15,8 @@
 
 #include <glm/glm.hpp>
 
+#include "engine/core/math_constants.h"
+
 namespace cr {
 
 // Least perceptual roughness shaded. The sun is a delta light here; with
@@ -31,8 +33,6 @@ struct BrdfParams {
   float roughness = 1.0f;      // perceptual; clamped to [kMinRoughness, 1]
 };
 
-inline constexpr float kBrdfPi = 3.14159265358979f;
-
 // Clamp that maps NaN to the lower bound (std::clamp passes NaN through).
 inline float clamp_nan_safe(float x, float lo, float hi) { return x > lo ? (x < hi ? x : hi) : lo; }
 
@@ -43,7 +43,7 @@ inline float clamp_nan_safe(float x, float lo, float hi) { return x > lo ? (x < 
 inline float ggx_distribution(float n_dot_h, float alpha) {
   const float a2 = alpha * alpha;
   const float d = n_dot_h * n_dot_h * (a2 - 1.0f) + 1.0f;
-  const float value = a2 / (kBrdfPi * d * d);
+  const float value = a2 / (kPi * d * d);
   return n_dot_h > 0.0f ? value : 0.0f;
 }
 
@@ -83,7 +83,7 @@ inline BrdfTerms brdf_terms(float n_dot_l, float n_dot_v, float n_dot_h, float v
   const float specular = ggx_distribution(n_dot_h, alpha) * smith_visibility(n_dot_l, n_dot_v, alpha);
   const float dielectric_fresnel = kDielectricF0 + (1.0f - kDielectricF0) * w;
   BrdfTerms t;
-  t.diffuse = above ? (1.0f - m) * (1.0f - dielectric_fresnel) / kBrdfPi : 0.0f;
+  t.diffuse = above ? (1.0f - m) * (1.0f - dielectric_fresnel) / kPi : 0.0f;
   t.specular = above && v_dot_h > 0.0f ? specular : 0.0f;
   t.fresnel_w = w;
   return t;

@@ -37,7 +37,7 @@ EnvironmentPrefilter::EnvironmentPrefilter(int size, int levels, int samples)
       pyramid_(pyramid_sizes(size)) {
   if (size < 1 || !std::has_single_bit(uint32_t(size)) || levels < 1 || samples < 1)
     throw std::invalid_argument("EnvironmentPrefilter: size must be a power of two, levels and samples >= 1");
-  const float texel_solid_angle = 4.0f * kBrdfPi / float(size * size);
+  const float texel_solid_angle = 4.0f * kPi / float(size * size);
   const float top_mip = float(pyramid_.levels() - 1);
   for (int k = 1; k < levels; ++k) {
     LevelSamples ls;

@@ -9,6 +9,8 @@
 
 #include <glm/glm.hpp>
 
+#include "engine/core/math_constants.h"
+
 namespace cr {
 
 // Point i of an n-point Hammersley set in [0, 1)^2: (i / n, radical inverse base 2 of i).
@@ -25,7 +27,7 @@ inline glm::vec2 hammersley(uint32_t i, uint32_t n) {
 // Half vector (local frame, n = +Z) with density D(h) (h.n) for alpha = roughness^2, from u in [0, 1)^2.
 inline glm::vec3 ggx_half_vector(glm::vec2 u, float alpha) {
   const float a2 = alpha * alpha;
-  const float phi = 2.0f * 3.14159265358979f * u.x;
+  const float phi = 2.0f * kPi * u.x;
   const float cos_t = std::sqrt((1.0f - u.y) / (1.0f + (a2 - 1.0f) * u.y));
   const float sin_t = std::sqrt(std::max(0.0f, 1.0f - cos_t * cos_t));
   return {sin_t * std::cos(phi), sin_t * std::sin(phi), cos_t};

@@ -4,10 +4,10 @@
 #include <cmath>
 #include <vector>
 
+#include "engine/core/math_constants.h"
+
 namespace cr {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 // Gauss-Legendre nodes and weights on [-1, 1] (Newton on P_n, as in
 // Numerical Recipes' gauleg); fixed iteration, so the nodes are reproducible.
@@ -15,7 +15,7 @@ void gauss_legendre(int n, std::vector<double>& x, std::vector<double>& w) {
   x.assign(size_t(n), 0.0);
   w.assign(size_t(n), 0.0);
   for (int i = 0; i < (n + 1) / 2; ++i) {
-    double z = std::cos(kPi * (i + 0.75) / (n + 0.5));
+    double z = std::cos(kPiD * (i + 0.75) / (n + 0.5));
     double dp = 1.0;
     for (int iter = 0; iter < 100; ++iter) {
       double p0 = 1.0, p1 = 0.0;
@@ -45,7 +45,7 @@ glm::vec3 sh_radiance(const ShCoefficients& c, const glm::vec3& d) {
 }
 
 glm::vec3 sh_irradiance(const ShCoefficients& c, const glm::vec3& n) {
-  constexpr float kBand[3] = {float(kPi), float(2.0 * kPi / 3.0), float(kPi / 4.0)};
+  constexpr float kBand[3] = {float(kPiD), float(2.0 * kPiD / 3.0), float(kPiD / 4.0)};
   const std::array<float, 9> y = sh_basis(n);
   glm::vec3 sum = kBand[0] * c[0] * y[0];
   for (size_t i = 1; i < 4; ++i) sum += kBand[1] * c[i] * y[i];
@@ -54,7 +54,7 @@ glm::vec3 sh_irradiance(const ShCoefficients& c, const glm::vec3& n) {
 }
 
 ShLighting::ShLighting(const ShCoefficients& c) : radiance_(c), irradiance_{}, constant_(true) {
-  constexpr float kBand[3] = {float(kPi), float(2.0 * kPi / 3.0), float(kPi / 4.0)};
+  constexpr float kBand[3] = {float(kPiD), float(2.0 * kPiD / 3.0), float(kPiD / 4.0)};
   // The same products as sh_irradiance's kBand[l] * c[i], so the sums match.
   for (size_t i = 0; i < 9; ++i) irradiance_[i] = kBand[i == 0 ? 0 : (i < 4 ? 1 : 2)] * c[i];
   for (size_t i = 1; i < 9; ++i) constant_ = constant_ && c[i] == glm::vec3(0.0f);
@@ -72,7 +72,7 @@ glm::vec3 ShLighting::evaluate(const ShCoefficients& c, const glm::vec3& d) {
 ShCoefficients sh_constant_radiance(const glm::vec3& radiance) {
   ShCoefficients c{};
   // L = c0 * Y00 with Y00 = 1 / (2 sqrt(pi)).
-  c[0] = radiance * float(2.0 * std::sqrt(kPi));
+  c[0] = radiance * float(2.0 * std::sqrt(kPiD));
   return c;
 }
 
@@ -83,7 +83,7 @@ ShCoefficients sh_project(const std::function<glm::vec3(const glm::vec3&)>& radi
   std::vector<double> nodes, weights;
   gauss_legendre(cos_nodes, nodes, weights);
   std::array<glm::dvec3, 9> sum{};
-  const double azimuth_weight = 2.0 * kPi / azimuth_nodes;
+  const double azimuth_weight = 2.0 * kPiD / azimuth_nodes;
   for (int i = 0; i < cos_nodes; ++i) {
     const double cos_theta = nodes[size_t(i)];
     const double sin_theta = std::sqrt(std::max(0.0, 1.0 - cos_theta * cos_theta));

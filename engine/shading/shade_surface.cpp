@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "engine/core/math_constants.h"
 #include "engine/shading/brdf.h"
 #include "engine/shading/environment_brdf.h"
 #include "engine/shading/material_eval.h"
@@ -11,7 +12,6 @@
 namespace cr {
 namespace {
 
-constexpr float kPi = 3.14159265358979f;
 // Least n.v shaded: normal maps and interpolated normals can face away from
 // the viewer, where the BRDF is undefined; such normals are bent back just
 // far enough to be seen (a cheap form of the usual "visible normal" fix).

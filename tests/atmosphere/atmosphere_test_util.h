@@ -5,6 +5,7 @@
 #include "atmosphere/lut_scheduler.h"
 #include "atmosphere/planet_frame.h"
 #include "atmosphere/sky_frame.h"
+#include "engine/core/math_constants.h"
 
 namespace cr::test {
 
@@ -28,12 +29,12 @@ inline AtmosphereSettings small_settings() {
 }
 
 inline glm::vec3 sun_from_zenith(double deg) {
-  const double z = deg * M_PI / 180.0;
+  const double z = deg * kPiD / 180.0;
   return glm::vec3(float(std::sin(z)), float(std::cos(z)), 0.0f);
 }
 
 inline Camera camera_at(double altitude, double x = 0.0, double yaw_deg = 0.0) {
-  const double yaw = yaw_deg * M_PI / 180.0;
+  const double yaw = yaw_deg * kPiD / 180.0;
   return Camera::look_at(glm::dvec3(x, altitude, 0.0),
                          glm::dvec3(x + 1000.0 * std::cos(yaw), altitude - 20.0, 1000.0 * std::sin(yaw)), 1.0471976f,
                          16.0f / 9.0f, 0.1f);

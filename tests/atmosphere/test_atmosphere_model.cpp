@@ -13,6 +13,7 @@
 #include "atmosphere/skyview_lut.h"
 #include "atmosphere/transmittance_lut.h"
 #include "engine/core/error.h"
+#include "engine/core/math_constants.h"
 
 using namespace cr;
 
@@ -24,7 +25,7 @@ double sphere_integral(const std::function<double(double)>& p) {
   const double h = 2.0 / n;
   double s = p(-1.0) + p(1.0);
   for (int i = 1; i < n; ++i) s += p(-1.0 + i * h) * (i % 2 ? 4.0 : 2.0);
-  return 2.0 * M_PI * s * h / 3.0;
+  return 2.0 * kPiD * s * h / 3.0;
 }
 
 AtmosphereModel homogeneous() {

@@ -14,6 +14,7 @@
 #include "atmosphere/planet_geometry.h"
 #include "atmosphere/scattering_march.h"
 #include "atmosphere_test_util.h"
+#include "engine/core/math_constants.h"
 
 using namespace cr;
 using namespace cr::test;
@@ -74,7 +75,7 @@ TEST_CASE("a sky-view row shaded in one batch equals shading each direction alon
   for (double zenith : {30.0, 89.0, 93.0}) {  // day, sunset (the shadow's penumbra), sun below the horizon
     const Luts l(zenith);
     const AtmosphereLuts luts = l.get();
-    const float mu_s = float(std::cos(zenith * M_PI / 180.0));
+    const float mu_s = float(std::cos(zenith * kPiD / 180.0));
     // Longitudes around the sun, an odd count (the vector loop's remainder too).
     std::vector<float> nu;
     for (int j = 0; j < 37; ++j) nu.push_back(std::clamp(std::cos(float(j) * 0.0873f) * 0.999f, -1.0f, 1.0f));
@@ -108,7 +109,7 @@ TEST_CASE("a column's runs shaded at once equal accumulating and shading each ru
   for (double zenith : {30.0, 89.0, 93.0}) {  // day, the shadow's penumbra, sun below the horizon
     const Luts l(zenith);
     const AtmosphereLuts luts = l.get();
-    const float mu_s = float(std::cos(zenith * M_PI / 180.0));
+    const float mu_s = float(std::cos(zenith * kPiD / 180.0));
     const size_t run = 3, runs = 7;  // an odd step count: the vector loop's remainder too
     MarchSteps steps;
     steps.resize(run * runs);

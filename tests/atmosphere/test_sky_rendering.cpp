@@ -14,6 +14,7 @@
 #include "atmosphere/sky_composite.h"
 #include "atmosphere/sky_lighting.h"
 #include "atmosphere_test_util.h"
+#include "engine/core/math_constants.h"
 
 using namespace cr;
 using namespace cr::test;
@@ -50,13 +51,13 @@ glm::vec3 brute_force_psi(const AtmosphereModel& m, double altitude, double mu_s
   glm::dvec3 ground_irradiance(0.0);  // from the unit field: integral of L cos over the upper hemisphere
   for (int b = 0; b < 400; ++b) {
     const double cos_p = (b + 0.5) / 400.0;
-    ground_irradiance += unit_field_luminance(m, 0.0, cos_p, 400) * cos_p * (2.0 * M_PI / 400.0);
+    ground_irradiance += unit_field_luminance(m, 0.0, cos_p, 400) * cos_p * (2.0 * kPiD / 400.0);
   }
   const glm::dvec3 x0(0.0, R + altitude, 0.0);
   const glm::dvec3 s(std::sqrt(1.0 - mu_s * mu_s), mu_s, 0.0);
   auto direction = [&](int a, int b) {
     const double cos_p = 1.0 - 2.0 * (b + 0.37) / n;
-    const double phi = 2.0 * M_PI * (a + 0.61) / n;
+    const double phi = 2.0 * kPiD * (a + 0.61) / n;
     const double sin_p = std::sqrt(1.0 - cos_p * cos_p);
     return glm::dvec3(sin_p * std::cos(phi), cos_p, sin_p * std::sin(phi));
   };
@@ -66,8 +67,8 @@ glm::vec3 brute_force_psi(const AtmosphereModel& m, double altitude, double mu_s
   for (int a = 0; a < n; ++a)
     for (int b = 0; b < n; ++b) {
       const float c = float(glm::dot(direction(a, b), s));
-      mean_r += rayleigh_phase(c) * 4.0 * M_PI / double(n * n);
-      mean_m += mie_phase(m, c) * 4.0 * M_PI / double(n * n);
+      mean_r += rayleigh_phase(c) * 4.0 * kPiD / double(n * n);
+      mean_m += mie_phase(m, c) * 4.0 * kPiD / double(n * n);
     }
   glm::dvec3 l2(0.0), fms(0.0);
   for (int a = 0; a < n; ++a)
@@ -96,8 +97,8 @@ glm::vec3 brute_force_psi(const AtmosphereModel& m, double altitude, double mu_s
         const glm::dvec3 pg = x0 + d * tg;
         const double mu_g = glm::dot(glm::normalize(pg), s);
         if (mu_g > 0.0)
-          l += throughput * glm::dvec3(m.ground_albedo) / M_PI * reference_transmittance(m, pg, s) * mu_g;
-        f += throughput * glm::dvec3(m.ground_albedo) / M_PI * ground_irradiance;
+          l += throughput * glm::dvec3(m.ground_albedo) / kPiD * reference_transmittance(m, pg, s) * mu_g;
+        f += throughput * glm::dvec3(m.ground_albedo) / kPiD * ground_irradiance;
       }
       l2 += l;
       fms += f;

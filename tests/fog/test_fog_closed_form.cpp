@@ -6,6 +6,7 @@
 
 #include <cmath>
 
+#include "engine/core/math_constants.h"
 #include "fog/fog_medium.h"
 #include "fog/homogeneous_medium.h"
 #include "fog/phase_function.h"
@@ -74,7 +75,7 @@ TEST_CASE("phase functions are normalised and their SH zonal coefficients match 
       double l0 = 0, l1 = 0, l2 = 0;
       for (int i = 0; i < n; ++i) {
         const double mu = -1.0 + (i + 0.5) * 2.0 / n;
-        const double v = evaluate_phase(phase, g, float(mu)) * 2.0 * M_PI * 2.0 / n;
+        const double v = evaluate_phase(phase, g, float(mu)) * 2.0 * kPiD * 2.0 / n;
         l0 += v;
         l1 += v * mu;
         l2 += v * 0.5 * (3 * mu * mu - 1);

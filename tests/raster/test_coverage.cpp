@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "engine/core/math_constants.h"
 #include "tests/raster/raster_test_util.h"
 
 namespace cr {
@@ -70,7 +71,7 @@ TEST_CASE("fan of thin triangles around a vertex is watertight") {
   const double radius = 100.0;
   std::vector<glm::vec3> pos{{float(c.x), float(c.y), 0.5f}};
   for (int i = 0; i < N; ++i) {
-    const double a = 2.0 * M_PI * i / N;
+    const double a = 2.0 * kPiD * i / N;
     pos.emplace_back(float(c.x + radius * std::cos(a)), float(c.y + radius * std::sin(a)), 0.5f);
   }
   std::vector<uint32_t> idx;

@@ -5,11 +5,10 @@
 #include <algorithm>
 #include <cmath>
 
+#include "engine/core/math_constants.h"
 #include "engine/shading/brdf.h"
 
 namespace cr::test {
-
-inline constexpr float kQuadraturePi = 3.14159265358979f;
 
 // Directional albedo E(v) = integral of f(l, v) (n.l) over the hemisphere,
 // n = +Z, by deterministic quadrature: a stratified grid of cosine-weighted
@@ -21,7 +20,7 @@ inline float directional_albedo(const BrdfParams& p, float n_dot_v, const glm::v
   const float roughness = std::clamp(p.roughness, kMinRoughness, 1.0f);
   const float alpha = roughness * roughness;
   constexpr int kGrid = 160;
-  auto pdf_cosine = [](const glm::vec3& l) { return std::max(l.z, 0.0f) / kQuadraturePi; };
+  auto pdf_cosine = [](const glm::vec3& l) { return std::max(l.z, 0.0f) / kPi; };
   auto pdf_ggx = [&](const glm::vec3& l) {
     const glm::vec3 h = glm::normalize(l + v);
     const float v_dot_h = glm::dot(v, h);
@@ -38,7 +37,7 @@ inline float directional_albedo(const BrdfParams& p, float n_dot_v, const glm::v
     for (int j = 0; j < kGrid; ++j) {
       const float u1 = (float(i) + 0.5f) / kGrid;
       const float u2 = (float(j) + 0.5f) / kGrid;
-      const float phi = 2.0f * kQuadraturePi * u2;
+      const float phi = 2.0f * kPi * u2;
       const float r = std::sqrt(u1);
       add({r * std::cos(phi), r * std::sin(phi), std::sqrt(1.0f - u1)});
       const float cos_h = std::sqrt((1.0f - u1) / (1.0f + (alpha * alpha - 1.0f) * u1));

@@ -6,14 +6,13 @@
 #include <utility>
 
 #include "brdf_quadrature.h"
+#include "engine/core/math_constants.h"
 #include "engine/shading/brdf.h"
 
 using namespace cr;
 using namespace cr::test;
 
 namespace {
-
-constexpr float kPi = 3.14159265358979f;
 
 glm::vec3 direction(float theta, float phi) {
   return {std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)};

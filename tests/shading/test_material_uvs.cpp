@@ -6,6 +6,7 @@
 
 #include <cmath>
 
+#include "engine/core/math_constants.h"
 #include "engine/scene/image_mips.h"
 #include "engine/scene/image_texels.h"
 #include "engine/shading/material_eval.h"
@@ -15,8 +16,6 @@
 using namespace cr;
 
 namespace {
-
-constexpr float kPi = 3.14159265358979f;
 
 // A w x h linear image whose texel (x, y) is (x / (w - 1), y / (h - 1), 0, 1)
 // in 8 bits: reading it tells where a lookup landed.

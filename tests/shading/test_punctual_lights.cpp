@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "engine/core/math_constants.h"
 #include "engine/scene/camera.h"
 #include "engine/shading/punctual_lights.h"
 #include "engine/shading/shade_surface.h"
@@ -13,8 +14,6 @@
 using namespace cr;
 
 namespace {
-
-constexpr float kPi = 3.14159265358979f;
 
 Material dielectric(float albedo) {
   Material m;

@@ -3,13 +3,12 @@
 #include <algorithm>
 #include <cmath>
 
+#include "engine/core/math_constants.h"
 #include "engine/shading/sh_lighting.h"
 
 using namespace cr;
 
 namespace {
-
-constexpr float kPi = 3.14159265358979f;
 
 // Directions spread over the whole sphere (including the poles and axes).
 std::vector<glm::vec3> test_directions() {

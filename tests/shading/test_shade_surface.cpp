@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "engine/core/math_constants.h"
 #include "engine/scene/image_texels.h"
 #include "engine/shading/brdf.h"
 #include "engine/shading/material_eval.h"
@@ -13,8 +14,6 @@
 using namespace cr;
 
 namespace {
-
-constexpr float kPi = 3.14159265358979f;
 
 // A 1x1 linear (or sRGB) image of one RGBA8 texel.
 Image texel_image(uint8_t r, uint8_t g, uint8_t b, uint8_t a, bool srgb = false) {

@@ -9,6 +9,7 @@
 
 #include "brdf_quadrature.h"
 #include "engine/core/log2_poly.h"
+#include "engine/core/math_constants.h"
 #include "engine/shading/brdf.h"
 #include "engine/shading/environment_brdf.h"
 #include "engine/shading/environment_prefilter.h"
@@ -21,8 +22,6 @@ using namespace cr;
 using namespace cr::test;
 
 namespace {
-
-constexpr float kPi = 3.14159265358979f;
 
 // A radiance function with no symmetry about the octahedral folds, a bright
 // lobe (a sun-lit haze) and a smooth gradient: seams and lobes both show.
