@@ -1,40 +1,20 @@
 #pragma once
-// Phase functions (1/sr, each integrates to 1 over the sphere) of cos(theta),
-// theta the angle between the light's travel direction and the scattered one
-// (equivalently, between view-to-sun and view directions).
-#include <algorithm>
+// The atmosphere's Mie phase function (the model's Cornette-Shanks or double
+// Henyey-Greenstein lobes) and its Legendre coefficients; the phase functions
+// themselves, and their argument order (cos_theta, g), are
+// engine/shading/phase_functions.h's.
 #include <array>
-#include <cmath>
 
 #include "atmosphere/atmosphere_model.h"
 #include "engine/core/math_constants.h"
+#include "engine/shading/phase_functions.h"
 
 namespace cr {
 
-inline constexpr float kIsotropicPhase = 1.0f / (4.0f * kPi);
-
-inline float rayleigh_phase(float cos_theta) {
-  return 3.0f / (16.0f * kPi) * (1.0f + cos_theta * cos_theta);
-}
-
-inline float henyey_greenstein_phase(float cos_theta, float g) {
-  const float g2 = g * g;
-  // >= (1-|g|)^2 > 0 for |g| < 1; the max only guards rounding at cos = +-1.
-  const float denom = std::max(1.0f + g2 - 2.0f * g * cos_theta, 1e-12f);
-  return (1.0f - g2) / (4.0f * kPi * denom * std::sqrt(denom));
-}
-
-inline float cornette_shanks_phase(float cos_theta, float g) {
-  const float g2 = g * g;
-  const float denom = std::max(1.0f + g2 - 2.0f * g * cos_theta, 1e-12f);
-  return 3.0f / (8.0f * kPi) * (1.0f - g2) * (1.0f + cos_theta * cos_theta) /
-         ((2.0f + g2) * denom * std::sqrt(denom));
-}
-
 inline float mie_phase(const AtmosphereModel& m, float cos_theta) {
-  if (m.mie_phase == MiePhaseModel::CornetteShanks) return cornette_shanks_phase(cos_theta, m.mie_g);
-  return m.mie_lobe_weight * henyey_greenstein_phase(cos_theta, m.mie_g) +
-         (1.0f - m.mie_lobe_weight) * henyey_greenstein_phase(cos_theta, m.mie_g2);
+  if (m.mie_phase == MiePhaseModel::CornetteShanks) return cornette_shanks(cos_theta, m.mie_g);
+  return m.mie_lobe_weight * henyey_greenstein(cos_theta, m.mie_g) +
+         (1.0f - m.mie_lobe_weight) * henyey_greenstein(cos_theta, m.mie_g2);
 }
 
 // The phase's Legendre coefficients k_l = 2 pi * integral of p(cos) P_l(cos)

@@ -302,13 +302,13 @@ void sky_radiance_batch(const SkyFrame& f, size_t n, const float* dx, const floa
   ph.resize(n);
   const AtmosphereModel& m = f.model;
   if (m.mie_phase == MiePhaseModel::CornetteShanks)
-    skyview_coordinates(f, [g = m.mie_g](float c) { return cornette_shanks_phase(c, g); }, n, dx, dy, dz, u.data(),
+    skyview_coordinates(f, [g = m.mie_g](float c) { return cornette_shanks(c, g); }, n, dx, dy, dz, u.data(),
                         v.data(), ph.data());
   else
     skyview_coordinates(
         f,
         [g = m.mie_g, g2 = m.mie_g2, lobe = m.mie_lobe_weight](float c) {
-          return lobe * henyey_greenstein_phase(c, g) + (1.0f - lobe) * henyey_greenstein_phase(c, g2);
+          return lobe * henyey_greenstein(c, g) + (1.0f - lobe) * henyey_greenstein(c, g2);
         },
         n, dx, dy, dz, u.data(), v.data(), ph.data());
   for (size_t i = 0; i < n; ++i) out[i] = f.skyview->sample(glm::vec2(u[i], v[i]), ph[i]) * f.sun_illuminance;
@@ -369,7 +369,7 @@ void composite_sky(const SkyFrame& f, FrameBuffers& buffers, int x0, int y0, int
             1.0f / (map.zenith_horizon_angle - map.first_angle), map.zenith_horizon_angle, 1.0f / map.beta,
             float(sv_w - 1), float(sv_h - 1)};
   const AtmosphereModel& model = f.model;
-  const bool cornette_shanks = model.mie_phase == MiePhaseModel::CornetteShanks;
+  const bool mie_cornette_shanks = model.mie_phase == MiePhaseModel::CornetteShanks;
   const float g = model.mie_g, g2 = model.mie_g2, lobe = model.mie_lobe_weight;
 
   // The sky grid of this tile and which blocks need every pixel.
@@ -559,14 +559,14 @@ void composite_sky(const SkyFrame& f, FrameBuffers& buffers, int x0, int y0, int
       sr.len2 = len2;
       for (size_t j = 0; j < n_sky; ++j) s.row_sx[j] = s.sx[size_t(s.sky[j])];
       float *fu = s.a.data(), *fv = s.b.data(), *ph = s.c.data(), *nu = s.d.data();
-      if (cornette_shanks)
-        sky_coordinates(sr, [g](float c) { return cornette_shanks_phase(c, g); }, n_sky, s.row_sx.data(), fu, fv,
+      if (mie_cornette_shanks)
+        sky_coordinates(sr, [g](float c) { return cornette_shanks(c, g); }, n_sky, s.row_sx.data(), fu, fv,
                         ph, nu);
       else
         sky_coordinates(
             sr,
             [g, g2, lobe](float c) {
-              return lobe * henyey_greenstein_phase(c, g) + (1.0f - lobe) * henyey_greenstein_phase(c, g2);
+              return lobe * henyey_greenstein(c, g) + (1.0f - lobe) * henyey_greenstein(c, g2);
             },
             n_sky, s.row_sx.data(), fu, fv, ph, nu);
       for (size_t j = 0; j < n_sky; ++j) {

@@ -186,7 +186,7 @@ size_t integrate_columns(const FroxelView& view, const std::vector<FogDensity>& 
         light.e0 = e[size_t(x) * 2];
         light.de = nz > 1 ? (e[size_t(x) * 2 + 1] - light.e0) / (t_last - t_first) : glm::vec3(0.0f);
         light.t_first = t_first;
-        light.phase = evaluate_phase(lighting.phase, lighting.anisotropy, glm::dot(dir, lighting.sun_direction));
+        light.phase = evaluate_phase(lighting.phase, glm::dot(dir, lighting.sun_direction), lighting.anisotropy);
         light.ambient = phase_convolved_ambient(lighting.ambient_sh, zonal, dir);
         const size_t base = g.index(x, y, 0);
         const float* visibility = sun_visibility.data() + base;

@@ -1,30 +1,13 @@
 #include "fog/phase_function.h"
 
-#include <algorithm>
-#include <cmath>
-
+#include "engine/shading/phase_functions.h"
 #include "engine/shading/sh_lighting.h"
 
 namespace cr {
 
-namespace {
-constexpr float kInvFourPi = 0.07957747154594767f;
-constexpr float kThreeOverEightPi = 0.11936620731892151f;
-}  // namespace
-
-float henyey_greenstein(float g, float cos_theta) {
-  const float denom = std::max(1.0f + g * g - 2.0f * g * cos_theta, 1e-12f);
-  return kInvFourPi * (1.0f - g * g) / (denom * std::sqrt(denom));
-}
-
-float cornette_shanks(float g, float cos_theta) {
-  const float denom = std::max(1.0f + g * g - 2.0f * g * cos_theta, 1e-12f);
-  return kThreeOverEightPi * (1.0f - g * g) / (2.0f + g * g) * (1.0f + cos_theta * cos_theta) /
-         (denom * std::sqrt(denom));
-}
-
-float evaluate_phase(FogPhase phase, float g, float cos_theta) {
-  return phase == FogPhase::CornetteShanks ? cornette_shanks(g, cos_theta) : henyey_greenstein(g, cos_theta);
+float evaluate_phase(FogPhase phase, float cos_theta, float g) {
+  return phase == FogPhase::CornetteShanks ? cornette_shanks_normalized_first(cos_theta, g)
+                                           : henyey_greenstein_normalized_first(cos_theta, g);
 }
 
 std::array<float, 3> phase_zonal_coefficients(FogPhase phase, float g) {

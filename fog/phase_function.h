@@ -1,9 +1,10 @@
 #pragma once
-// Phase functions of the fog medium (normalised over the sphere, 1/sr) and
-// their convolution with SH L2 ambient light.
+// The fog medium's phase function (normalised over the sphere, 1/sr) and its
+// convolution with SH L2 ambient light.
 // cos_theta is the cosine between the direction the camera looks along and
 // the direction towards the light: forward scattering (g > 0) brightens the
-// fog when looking towards the sun.
+// fog when looking towards the sun. Arguments in the order of
+// engine/shading/phase_functions.h: (cos_theta, g).
 #include <array>
 
 #include <glm/glm.hpp>
@@ -12,10 +13,9 @@
 
 namespace cr {
 
-float henyey_greenstein(float g, float cos_theta);
-// Cornette-Shanks: 3/(8 pi) (1 - g^2)/(2 + g^2) (1 + mu^2)/(1 + g^2 - 2 g mu)^(3/2).
-float cornette_shanks(float g, float cos_theta);
-float evaluate_phase(FogPhase phase, float g, float cos_theta);
+// The scene's phase function (Henyey-Greenstein or Cornette-Shanks, in
+// engine/shading/phase_functions.h) with asymmetry g.
+float evaluate_phase(FogPhase phase, float cos_theta, float g);
 
 // Zonal (Legendre) coefficients lambda_l, l = 0..2, of a phase function:
 // convolving SH band l with the phase scales it by lambda_l (Funk-Hecke).

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "engine/core/math_constants.h"
+#include "engine/shading/phase_functions.h"
 
 namespace cr {
 
@@ -124,19 +125,10 @@ class Reference {
   }
 
   double phase_mie(double c) const {
-    if (m_.mie_phase == MiePhaseModel::CornetteShanks) {
-      const double g = m_.mie_g, g2 = g * g;
-      const double den = std::max(1.0 + g2 - 2.0 * g * c, 1e-300);
-      return 3.0 / (8.0 * kPiD) * (1.0 - g2) * (1.0 + c * c) / ((2.0 + g2) * den * std::sqrt(den));
-    }
+    if (m_.mie_phase == MiePhaseModel::CornetteShanks) return cornette_shanks<double>(c, m_.mie_g);
     return m_.mie_lobe_weight * hg(c, m_.mie_g) + (1.0 - m_.mie_lobe_weight) * hg(c, m_.mie_g2);
   }
-  static double hg(double c, double g) {
-    const double g2 = g * g;
-    const double den = std::max(1.0 + g2 - 2.0 * g * c, 1e-300);
-    return (1.0 - g2) / (4.0 * kPiD * den * std::sqrt(den));
-  }
-  static double phase_rayleigh(double c) { return 3.0 / (16.0 * kPiD) * (1.0 + c * c); }
+  static double hg(double c, double g) { return henyey_greenstein(c, g); }
 
   // Mie sampling proxy: the HG lobe(s); pdf of cos around the travel direction.
   double mie_proxy_pdf(double c) const {
@@ -173,7 +165,7 @@ glm::dvec3 single_scattering(const Reference& ref, glm::dvec3 o, const glm::dvec
   const Reference::Span sp = ref.span(o, d);
   if (!sp.valid) return glm::dvec3(0.0);
   const double nu = glm::dot(d, s);
-  const double pr = Reference::phase_rayleigh(nu), pm = ref.phase_mie(nu);
+  const double pr = rayleigh_phase(nu), pm = ref.phase_mie(nu);
   glm::dvec3 l(0.0), throughput(1.0);
   double t = sp.t0;
   while (t < sp.t1) {
@@ -212,7 +204,7 @@ void scatter(const Reference& ref, const Medium& at, glm::dvec3& dir, glm::dvec3
     c = ref.sample_mie_cos(rng);
   }
   const double q = a / (4.0 * kPiD) + (1.0 - a) * ref.mie_proxy_pdf(c);
-  const glm::dvec3 f = at.rayleigh * Reference::phase_rayleigh(c) + at.mie * ref.phase_mie(c);
+  const glm::dvec3 f = at.rayleigh * rayleigh_phase(c) + at.mie * ref.phase_mie(c);
   throughput = throughput * f / q;
   dir = around(dir, c, 2.0 * kPiD * rng.uniform());
 }
@@ -309,7 +301,7 @@ glm::dvec3 trace(const Reference& ref, glm::dvec3 pos, glm::dvec3 dir, glm::dvec
       const glm::dvec3 w = throughput * tr / pdf_t;
       if (vertex >= 2) {
         const double nu = glm::dot(dir, s);
-        l += w * (at.rayleigh * Reference::phase_rayleigh(nu) + at.mie * ref.phase_mie(nu)) * ref.sun(x, s) * e;
+        l += w * (at.rayleigh * rayleigh_phase(nu) + at.mie * ref.phase_mie(nu)) * ref.sun(x, s) * e;
       }
       // Direction: uniform sphere (Rayleigh proxy) or the Mie proxy, mixed by scattering share.
       throughput = w;

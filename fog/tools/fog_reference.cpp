@@ -31,7 +31,7 @@ FogReferenceImage render_fog_reference(const FogSceneSettings& scene, float fog_
         if (!(d > near)) continue;
         const float length = std::min(d, far) - near;
         const glm::vec3 dir = camera.ray_direction(float(x) + 0.5f, float(y) + 0.5f, width, height);
-        const float phase = evaluate_phase(scene.phase, scene.anisotropy, glm::dot(dir, light.sun_direction));
+        const float phase = evaluate_phase(scene.phase, glm::dot(dir, light.sun_direction), scene.anisotropy);
         const glm::vec3 ambient = phase_convolved_ambient(light.ambient_sh, zonal, dir);
         const float step = length / float(n);
         glm::vec3 in_scatter(0.0f);

@@ -51,9 +51,9 @@ TEST_CASE("phase functions integrate to one over the sphere") {
   CHECK(sphere_integral([](double c) { return rayleigh_phase(float(c)); }) == doctest::Approx(1.0).epsilon(1e-5));
   for (float g : {-0.9f, -0.5f, 0.0f, 0.3f, 0.76f, 0.8f, 0.9f}) {
     CAPTURE(g);
-    CHECK(sphere_integral([g](double c) { return henyey_greenstein_phase(float(c), g); }) ==
+    CHECK(sphere_integral([g](double c) { return henyey_greenstein(float(c), g); }) ==
           doctest::Approx(1.0).epsilon(2e-4));
-    CHECK(sphere_integral([g](double c) { return cornette_shanks_phase(float(c), g); }) ==
+    CHECK(sphere_integral([g](double c) { return cornette_shanks(float(c), g); }) ==
           doctest::Approx(1.0).epsilon(2e-4));
   }
   AtmosphereModel m;

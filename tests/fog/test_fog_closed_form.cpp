@@ -46,7 +46,7 @@ void check_slab(FogPhase phase, float g, bool jitter) {
       const size_t i = size_t(y) * kW + x;
       const float d = std::clamp(distance[i], near, far);
       const glm::vec3 dir = cam.ray_direction(float(x) + 0.5f, float(y) + 0.5f, kW, kH);
-      const float phase_value = evaluate_phase(phase, g, glm::dot(dir, l.sun_direction));
+      const float phase_value = evaluate_phase(phase, glm::dot(dir, l.sun_direction), g);
       const float t = std::exp(-sigma * (d - near));
       const glm::vec3 expected =
           base * t + s.albedo * (phase_value * 1000.0f + 2.0f) * (1.0f - t);
@@ -75,7 +75,7 @@ TEST_CASE("phase functions are normalised and their SH zonal coefficients match 
       double l0 = 0, l1 = 0, l2 = 0;
       for (int i = 0; i < n; ++i) {
         const double mu = -1.0 + (i + 0.5) * 2.0 / n;
-        const double v = evaluate_phase(phase, g, float(mu)) * 2.0 * kPiD * 2.0 / n;
+        const double v = evaluate_phase(phase, float(mu), g) * 2.0 * kPiD * 2.0 / n;
         l0 += v;
         l1 += v * mu;
         l2 += v * 0.5 * (3 * mu * mu - 1);

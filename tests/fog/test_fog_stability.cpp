@@ -20,7 +20,7 @@ constexpr float kSunLux = 1e5f, kAmbient = 1e3f;
 // L <= (max phase * E + La) (1 - T) for albedo <= 1 (energy conservation),
 // over every froxel the frame produced (the active slices of each column).
 void check_bounded(const FroxelFog& fog, FogPhase phase, float g) {
-  const float p_max = std::max(evaluate_phase(phase, g, 1.0f), evaluate_phase(phase, g, -1.0f));
+  const float p_max = std::max(evaluate_phase(phase, 1.0f, g), evaluate_phase(phase, -1.0f, g));
   const float bound = (p_max * kSunLux + kAmbient) * 1.0001f + 1e-3f;
   const FroxelGrid& grid = fog.grid();
   for (size_t column = 0; column < grid.columns(); ++column)

@@ -56,7 +56,7 @@ TEST_CASE("the integration applies sun_at's illuminance along and across columns
     for (int x = 0; x < grid.nx(); ++x) {
       // The definition: the exact recurrence with sun_at at each slice centre.
       const glm::vec3 dir = view.directions[size_t(y) * grid.nx() + x];
-      const float phase = evaluate_phase(lighting.phase, lighting.anisotropy, glm::dot(dir, light.sun_direction));
+      const float phase = evaluate_phase(lighting.phase, glm::dot(dir, light.sun_direction), lighting.anisotropy);
       glm::dvec3 in_scatter(0.0);
       double transmittance = 1.0;
       for (int k = 0; k < grid.nz(); ++k) {
