@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "atmosphere/atmosphere_model.h"
-#include "atmosphere/fast_math.h"
+#include "engine/core/fast_math.h"
 
 namespace cr {
 

@@ -6,10 +6,10 @@
 #include <cstring>
 
 #include "atmosphere/atmosphere_density.h"
-#include "atmosphere/fast_math.h"
 #include "atmosphere/float4.h"
 #include "atmosphere/phase_functions.h"
 #include "atmosphere/planet_geometry.h"
+#include "engine/core/fast_math.h"
 #include "engine/core/math_constants.h"
 
 namespace cr {

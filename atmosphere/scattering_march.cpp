@@ -4,11 +4,11 @@
 #include <cmath>
 
 #include "atmosphere/atmosphere_density.h"
-#include "atmosphere/fast_math.h"
 #include "atmosphere/float4.h"
 #include "atmosphere/march_lookups.h"
 #include "atmosphere/phase_functions.h"
 #include "atmosphere/planet_geometry.h"
+#include "engine/core/fast_math.h"
 
 namespace cr {
 

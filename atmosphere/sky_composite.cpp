@@ -5,10 +5,10 @@
 #include <cstdint>
 #include <vector>
 
-#include "atmosphere/fast_math.h"
 #include "atmosphere/float4.h"
 #include "atmosphere/phase_functions.h"
 #include "atmosphere/planet_geometry.h"
+#include "engine/core/fast_math.h"
 
 namespace cr {
 

@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "atmosphere/fast_math.h"
 #include "atmosphere/planet_geometry.h"
+#include "engine/core/fast_math.h"
 #include "engine/core/math_constants.h"
 
 namespace cr {

@@ -16,9 +16,9 @@
 
 #include <glm/glm.hpp>
 
-#include "atmosphere/fast_math.h"
 #include "atmosphere/lut_image.h"
 #include "atmosphere/scattering_march.h"
+#include "engine/core/fast_math.h"
 
 namespace cr {
 

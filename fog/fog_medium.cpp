@@ -5,7 +5,7 @@
 
 #include <immintrin.h>
 
-#include "fog/fast_exp.h"
+#include "engine/core/fast_math.h"
 #include "fog/value_noise.h"
 
 namespace cr {

@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "fog/fast_log.h"
+#include "engine/core/fast_math.h"
 #include "fog/froxel_passes.h"
 
 namespace cr {

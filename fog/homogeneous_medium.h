@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "fog/fast_exp.h"
+#include "engine/core/fast_math.h"
 
 namespace cr {
 

@@ -7,13 +7,12 @@
 // unoccluded mirror direction more often than the cosine lobe does, except
 // at grazing angles: so ~ ao for rough or grazing, -> 1 for smooth facing
 // surfaces. Exactly 1 where ao = 1. Inline, branch-free: vectorises.
-#include "engine/core/exp2_poly.h"
-#include "engine/core/log2_poly.h"
+#include "engine/core/fast_math.h"
 
 namespace cr {
 
 inline float specular_occlusion(float n_dot_v, float ao, float alpha) {
-  const float p = exp2_poly(exp2_poly(-16.0f * alpha - 1.0f) * log2_poly(n_dot_v + ao));
+  const float p = fast_exp2(fast_exp2(-16.0f * alpha - 1.0f) * fast_log2(n_dot_v + ao));
   const float so = p - 1.0f + ao;
   return so > 0.0f ? (so < 1.0f ? so : 1.0f) : 0.0f;
 }

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "fog/fast_log.h"
+#include "engine/core/fast_math.h"
 #include "fog/froxel_grid.h"
 #include "fog/jitter_sequence.h"
 
