@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 
+#include "engine/core/luminance.h"
 #include "engine/output/color_map.h"
 #include "engine/output/exr_io.h"
 #include "engine/output/png_io.h"
@@ -11,8 +12,6 @@
 namespace cr {
 
 namespace {
-
-float luminance(const glm::vec3& c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
 
 // A 2D view of a LUT (3D volumes: slices side by side).
 struct Flat {

@@ -4,6 +4,7 @@
 #include <atomic>
 #include <cmath>
 
+#include "engine/core/luminance.h"
 #include "engine/core/math_constants.h"
 #include "engine/shading/phase_functions.h"
 
@@ -363,7 +364,7 @@ ReferenceImage render_reference(const AtmosphereModel& model, const ReferenceVie
           Rng rng{settings.seed * 0x100000001B3ull ^ (uint64_t(i) << 20) ^ uint64_t(k)};
           rng.next_u64();
           const glm::dvec3 p = multiple_scattering_path(ref, o, d, s, e, settings.max_bounces, rng);
-          const double y = 0.2126 * p.x + 0.7152 * p.y + 0.0722 * p.z;
+          const double y = luminance(p);
           sum += p;
           y_sum += y;
           y_sq += y * y;

@@ -15,6 +15,7 @@
 #include "atmosphere/tools/sky_case.h"
 #include "atmosphere/tools/sky_commands.h"
 #include "engine/core/error.h"
+#include "engine/core/luminance.h"
 #include "engine/core/math_constants.h"
 #include "engine/output/exr_io.h"
 

@@ -14,6 +14,7 @@
 #include "atmosphere/sky_composite.h"
 #include "atmosphere/tools/sky_case.h"
 #include "atmosphere/tools/sky_commands.h"
+#include "engine/core/luminance.h"
 #include "engine/core/math_constants.h"
 #include "engine/output/percentile.h"
 #include "engine/render/composite_strips.h"

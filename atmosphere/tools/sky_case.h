@@ -45,8 +45,6 @@ Camera horizon_camera(double altitude, int width, int height);
 // The unit direction to a sun `zenith_deg` from the zenith, in the +X azimuth.
 glm::vec3 sun_at_zenith_angle(double zenith_deg);
 double now_ms();  // a steady clock
-// Rec. 709 luminance.
-inline float luminance(const glm::vec3& c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
 double median(std::vector<double> v);
 
 }  // namespace cr

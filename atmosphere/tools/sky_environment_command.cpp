@@ -12,6 +12,7 @@
 #include "atmosphere/sky_lighting.h"
 #include "atmosphere/tools/sky_case.h"
 #include "atmosphere/tools/sky_commands.h"
+#include "engine/core/luminance.h"
 #include "engine/core/math_constants.h"
 #include "engine/shading/brdf.h"
 #include "engine/shading/environment_brdf.h"

@@ -8,6 +8,7 @@
 #include "engine/cli/cli_common.h"
 #include "engine/cli/paths.h"
 #include "engine/core/error.h"
+#include "engine/core/luminance.h"
 #include "engine/output/percentile.h"
 #include "engine/render/composite_strips.h"
 #include "engine/scene/gltf_loader.h"
@@ -104,7 +105,7 @@ std::vector<glm::vec3> froxel_frame(FroxelFog& fog, const FrameView& view, const
 }
 
 ImageError relative_luminance_error(const std::vector<glm::vec3>& reference, const std::vector<glm::vec3>& test) {
-  auto lum = [](const glm::vec3& c) { return 0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b; };
+  auto lum = [](const glm::vec3& c) { return luminance(glm::dvec3(c)); };  // in double
   std::vector<double> e(reference.size());
   double sum = 0.0;
   for (size_t i = 0; i < reference.size(); ++i) {

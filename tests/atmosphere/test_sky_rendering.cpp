@@ -14,14 +14,13 @@
 #include "atmosphere/sky_composite.h"
 #include "atmosphere/sky_lighting.h"
 #include "atmosphere_test_util.h"
+#include "engine/core/luminance.h"
 #include "engine/core/math_constants.h"
 
 using namespace cr;
 using namespace cr::test;
 
 namespace {
-
-float luminance(const glm::vec3& c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
 
 bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 

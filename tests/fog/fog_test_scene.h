@@ -5,6 +5,7 @@
 #include <cmath>
 #include <vector>
 
+#include "engine/core/luminance.h"
 #include "engine/render/frame_buffers.h"
 #include "engine/render/plugin.h"
 #include "engine/shading/light_environment.h"
@@ -113,8 +114,6 @@ inline std::vector<glm::vec3> composite(FroxelFog& fog, const FrameView& view, c
   fog.composite(b, 0, 0, view.width, view.height);
   return b.color;
 }
-
-inline float luminance(const glm::vec3& c) { return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b; }
 
 // Mean relative luminance difference of b against a.
 inline double mean_relative_error(const std::vector<glm::vec3>& a, const std::vector<glm::vec3>& b) {

@@ -14,6 +14,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "engine/core/luminance.h"
 #include "engine/render/renderer.h"
 #include "engine/scene/gltf_loader.h"
 #include "engine/shading/brdf.h"
@@ -70,8 +71,6 @@ glm::vec3 on_plane(const Frame& f, int x, int y, glm::vec3 n, float c) {
   const glm::vec3 origin(f.camera.position);
   return origin + dir * ((c - glm::dot(n, origin)) / glm::dot(n, dir));
 }
-
-float luminance(const glm::vec3& c) { return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b; }
 
 // Pixels whose point on the plane z = 0 lies in the square of half size
 // `half` around `centre`, as (pixel, local offset from the centre).
@@ -164,16 +163,16 @@ TEST_CASE("TextureTransformMultiTest: every input's TEXCOORD_0 and TEXCOORD_1 ti
     const int n = 140 * 140;
     double mean = 0.0, deviation = 0.0;
     for (int y = 30; y < 170; ++y)
-      for (int x = 450; x < 590; ++x) mean += luminance(f.at(x, y)) / n;
+      for (int x = 450; x < 590; ++x) mean += cr::luminance(f.at(x, y)) / n;
     for (int y = 30; y < 170; ++y)
-      for (int x = 450; x < 590; ++x) deviation += std::abs(luminance(f.at(x, y)) - mean) / n;
+      for (int x = 450; x < 590; ++x) deviation += std::abs(cr::luminance(f.at(x, y)) - mean) / n;
     double best = 1e30;
     for (int dy = -6; dy <= 6; ++dy)
       for (int dx = -6; dx <= 6; ++dx) {
         double diff = 0.0;
         for (int y = 30; y < 170; ++y)
           for (int x = 450; x < 590; ++x)
-            diff += std::abs(luminance(f.at(x - 200 * (2 - column) + dx, y + dy)) - luminance(f.at(x, y))) / n;
+            diff += std::abs(cr::luminance(f.at(x - 200 * (2 - column) + dx, y + dy)) - cr::luminance(f.at(x, y))) / n;
         best = std::min(best, diff / deviation);
       }
     return best;
@@ -247,8 +246,8 @@ TEST_CASE("EmissiveStrengthTest: emissive 1.0 is the exposure's white, 1.2 * 2^E
       for (const float x : {-6.0f, -3.0f, 0.0f, 3.0f, 6.0f}) {
         const glm::vec3 c = mean_colour(f, {x, 0.0f}, 0.3f);
         for (int k = 0; k < 3; ++k) CHECK(c[k] == doctest::Approx(factor[k] * strength * white).epsilon(1e-5));
-        CHECK(luminance(c) > 1.9f * previous);
-        previous = luminance(c);
+        CHECK(cr::luminance(c) > 1.9f * previous);
+        previous = cr::luminance(c);
         strength *= 2.0f;
       }
     }

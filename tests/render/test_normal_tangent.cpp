@@ -9,6 +9,7 @@
 #include <fstream>
 #include <vector>
 
+#include "engine/core/luminance.h"
 #include "engine/render/renderer.h"
 #include "engine/scene/gltf_loader.h"
 #include "tests/khronos_assets.h"
@@ -31,7 +32,7 @@ std::vector<float> render_lit(const cr::Scene& scene, const std::string& gltf, f
   cr::Renderer r(scene, d, profile, {}, jobs);
   r.render_frame(0);
   std::vector<float> y;
-  for (const glm::vec3& c : r.buffers().color) y.push_back(0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b);
+  for (const glm::vec3& c : r.buffers().color) y.push_back(cr::luminance(c));
   return y;
 }
 
