@@ -1,6 +1,5 @@
 #include "atmosphere/tools/sky_case.h"
 
-#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <fstream>
@@ -90,11 +89,6 @@ glm::vec3 sun_at_zenith_angle(double zenith_deg) {
 
 double now_ms() {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.empty() ? 0.0 : v[v.size() / 2];
 }
 
 }  // namespace cr

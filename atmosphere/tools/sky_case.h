@@ -3,7 +3,6 @@
 // --scene, --profile), and a sky case: LUTs on a scheduler and the frame state
 // seen from one camera under one sun.
 #include <memory>
-#include <vector>
 
 #include <glm/glm.hpp>
 
@@ -45,6 +44,5 @@ Camera horizon_camera(double altitude, int width, int height);
 // The unit direction to a sun `zenith_deg` from the zenith, in the +X azimuth.
 glm::vec3 sun_at_zenith_angle(double zenith_deg);
 double now_ms();  // a steady clock
-double median(std::vector<double> v);
 
 }  // namespace cr

@@ -14,6 +14,7 @@
 #include "atmosphere/tools/sky_commands.h"
 #include "engine/core/luminance.h"
 #include "engine/core/math_constants.h"
+#include "engine/output/percentile.h"
 #include "engine/shading/brdf.h"
 #include "engine/shading/environment_brdf.h"
 #include "engine/shading/ggx_sampling.h"

@@ -73,8 +73,6 @@ void time_frames(const RunSetup& setup, const Profile& profile, unsigned threads
   }
 }
 
-double median(const std::vector<double>& v) { return v.empty() ? 0.0 : percentile_nearest_rank(v, 50); }
-
 }  // namespace
 
 int antialiasing_command(const std::vector<std::string>& args, const PluginRegistry& registry) {

@@ -39,8 +39,6 @@ BenchResult run_bench(const RunSetup& setup, unsigned threads, int frames, int w
   return r;
 }
 
-double median(const std::vector<double>& v) { return percentile_nearest_rank(v, 50); }
-
 }  // namespace
 
 int bench_command(const std::vector<std::string>& args, const PluginRegistry& registry) {

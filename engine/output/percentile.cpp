@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 namespace cr {
 
@@ -17,5 +18,7 @@ double percentile_nearest_rank(std::vector<double> samples, double p) {
   const size_t rank = std::max<size_t>(1, static_cast<size_t>(std::ceil(position)));
   return samples[std::min(rank, samples.size()) - 1];
 }
+
+double median(std::vector<double> samples) { return percentile_nearest_rank(std::move(samples), 50.0); }
 
 }  // namespace cr

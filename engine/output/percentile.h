@@ -11,4 +11,8 @@ namespace cr {
 // Returns 0 for an empty sample. p is clamped to [0, 100].
 double percentile_nearest_rank(std::vector<double> samples, double p);
 
+// The median as the nearest-rank p50: an observed value, for an even count
+// the lower of the two middle samples. Returns 0 for an empty sample.
+double median(std::vector<double> samples);
+
 }  // namespace cr

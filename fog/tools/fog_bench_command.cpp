@@ -35,7 +35,7 @@ int fog_bench_command(const std::vector<std::string>& args, const PluginRegistry
   const char* names[] = {"fog.density", "fog.lighting", "fog.reproject", "fog.filter", "fog.integrate",
                          "fog passes total", "fog composite"};
   constexpr int kRows = 7;
-  double median[2][kRows];
+  double median_ms[2][kRows];
   size_t lit = 0, count = 0;
   // Of the measured frames (the last run's): lit, with a still view's
   // jitter-sequence mean instead of lighting, frozen.
@@ -60,11 +60,11 @@ int fog_bench_command(const std::vector<std::string>& args, const PluginRegistry
       const double row[kRows] = {t.density, t.lighting, t.reproject, t.filter, t.integrate, t.passes(), t.composite};
       for (int r = 0; r < kRows; ++r) ms[r].push_back(row[r]);
     }
-    for (int r = 0; r < kRows; ++r) median[c][r] = percentile_nearest_rank(ms[r], 50.0);
+    for (int r = 0; r < kRows; ++r) median_ms[c][r] = median(ms[r]);
     lit = fog.stats().lit_froxels;
     count = fog.grid().count();
   }
-  for (int r = 0; r < kRows; ++r) std::printf("%-18s %12.2f %12.2f\n", names[r], median[0][r], median[1][r]);
+  for (int r = 0; r < kRows; ++r) std::printf("%-18s %12.2f %12.2f\n", names[r], median_ms[0][r], median_ms[1][r]);
   std::printf("lit froxels after depth culling: %zu of %zu (%.0f%%)\n", lit, count,
               count ? 100.0 * double(lit) / double(count) : 0.0);
   std::printf("measured frames: %d lit, %d with the still view's jitter mean, %d frozen\n", lit_frames, mean_frames,
