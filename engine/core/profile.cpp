@@ -50,15 +50,6 @@ Profile parse_profile(const nlohmann::json& doc, const std::string& path,
       p.texture_decode_budget_mb = root.integer("texture_decode_budget_mb", 0, 1 << 20);
     } else if (key == "frame_budget_ms") {
       p.frame_budget_ms = static_cast<float>(root.number("frame_budget_ms", {0.0, 1e9, true}));
-    } else if (key == "precision") {
-      std::string s = root.string("precision");
-      if (s == "float32") {
-        p.precision = Precision::Float32;
-      } else if (s == "fixed16") {
-        p.precision = Precision::Fixed16;
-      } else {
-        root.fail(key, "must be \"float32\" or \"fixed16\", found \"" + s + "\"");
-      }
     } else if (key == "antialiasing") {
       const std::string s = root.string("antialiasing");
       if (s == "none") {
@@ -72,7 +63,7 @@ Profile parse_profile(const nlohmann::json& doc, const std::string& path,
       p.plugins[key] = doc.at(key);  // validated by the plugin that owns the section
     } else {
       std::string allowed = "name, resolution, tile_size, shadow_map_size, shadow_distance, "
-                            "shadow_pcf_radius, frame_budget_ms, texture_decode_budget_mb, precision, antialiasing";
+                            "shadow_pcf_radius, frame_budget_ms, texture_decode_budget_mb, antialiasing";
       for (const std::string& s : plugin_sections) allowed += ", " + s;
       throw InputError(path, "unknown key '" + key + "' (allowed: " + allowed + ")");
     }

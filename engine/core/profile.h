@@ -12,8 +12,6 @@
 
 namespace cr {
 
-enum class Precision { Float32, Fixed16 };  // kernel family chosen at run time
-
 struct Profile {
   std::string name;
   std::string path;
@@ -28,7 +26,6 @@ struct Profile {
   // for images while their total stays within this; the rest are sampled
   // from RGBA8 through decode tables, with the same results.
   int texture_decode_budget_mb = 512;
-  Precision precision = Precision::Float32;
   // Anti-aliasing ("antialiasing": "none" | "msaa2" | "msaa4" | "msaa8"):
   // coverage and depth samples per pixel of the visibility buffer (1 = none).
   int msaa_samples = 1;

@@ -27,7 +27,7 @@ std::string parse_error(const nlohmann::json& doc) {
 TEST_CASE("profile: every engine key is read, plugin sections are kept raw") {
   nlohmann::json doc = {{"name", "mobile"},       {"resolution", {960, 540}}, {"tile_size", 32},
                         {"shadow_map_size", 1024}, {"shadow_distance", 80.5}, {"shadow_pcf_radius", 0},
-                        {"frame_budget_ms", 16.6}, {"precision", "fixed16"},   {"fog", {{"slices", 32}}}};
+                        {"frame_budget_ms", 16.6}, {"fog", {{"slices", 32}}}};
   cr::Profile p = cr::parse_profile(doc, "profiles/mobile.json", kPlugins);
   CHECK(p.name == "mobile");
   CHECK(p.path == "profiles/mobile.json");
@@ -38,7 +38,6 @@ TEST_CASE("profile: every engine key is read, plugin sections are kept raw") {
   CHECK(p.shadow_distance == doctest::Approx(80.5));
   CHECK(p.shadow_pcf_radius == 0);
   CHECK(p.frame_budget_ms == doctest::Approx(16.6));
-  CHECK(p.precision == cr::Precision::Fixed16);
   CHECK(p.plugins["fog"]["slices"] == 32);
   CHECK_FALSE(p.plugins.contains("atmosphere"));
 }
@@ -50,7 +49,6 @@ TEST_CASE("profile: missing keys keep their defaults; the name defaults to the f
   CHECK(p.width == defaults.width);
   CHECK(p.tile_size == defaults.tile_size);
   CHECK(p.shadow_map_size == defaults.shadow_map_size);
-  CHECK(p.precision == cr::Precision::Float32);
   CHECK(cr::parse_profile({{"shadow_map_size", 0}}, "p.json", kPlugins).shadow_map_size == 0);
 }
 
@@ -67,7 +65,6 @@ TEST_CASE("profile: out-of-range values and unknown keys name the key") {
   CHECK(parse_error({{"texture_decode_budget_mb", -1}}).find("'texture_decode_budget_mb'") != std::string::npos);
   CHECK(parse_error({{"frame_budget_ms", -1}}).find("'frame_budget_ms'") != std::string::npos);
   CHECK(parse_error({{"frame_budget_ms", "fast"}}).find("must be a number") != std::string::npos);
-  CHECK(parse_error({{"precision", "float16"}}).find("'precision'") != std::string::npos);
   CHECK(parse_error({{"clouds", {}}}).find("unknown key 'clouds'") != std::string::npos);
   CHECK(parse_error(nlohmann::json::array()).find("JSON object") != std::string::npos);
 }
@@ -81,7 +78,6 @@ TEST_CASE("profile files: malformed JSON reports the position; bad values name f
                             FileCase{"profile_unknown_key.json", "unknown key 'tile_szie'"},
                             FileCase{"profile_tile_size.json", "'tile_size'"},
                             FileCase{"profile_resolution.json", "'resolution'"},
-                            FileCase{"profile_precision.json", "'precision'"},
                             FileCase{"profile_shadow_map_size.json", "'shadow_map_size'"},
                             FileCase{"profile_duplicate_key.json", "key 'tile_size' appears twice"},
                             FileCase{"profile_deep_plugin.json", "more than 128 levels deep"},
