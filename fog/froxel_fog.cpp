@@ -19,10 +19,8 @@ void FroxelFog::begin_frame(const FrameView& view, JobSystem& jobs, const std::v
   if (distance) cull_froxels_by_depth(view_, *distance, jobs);
   medium_.set_camera(view.camera.position);
   frame_ = view.frame;
-  use_history_ = profile_.reprojection && have_history_ && view.history_valid;
+  view_history_valid_ = view.history_valid;
   stats_ = FroxelFogStats{};
-  frozen_ = false;  // until lighting finds a converged still view
-  stats_.history_used = use_history_;
   for (size_t c = 0; c < grid.columns(); ++c) {
     stats_.lit_froxels += view_.lit_slices[c];
     stats_.active_froxels += view_.active_slices[c];
@@ -45,44 +43,79 @@ void FroxelFog::density() {
   stats_.voxelize = density_plan_.stats;
 }
 
-void FroxelFog::lighting(const ShadowMap& shadow, JobSystem& jobs, const ShadowMap* previous) {
-  JitterInputs jitter;
-  jitter.enabled = profile_.jitter;
-  jitter.frame = frame_;
-  jitter.samples = lighting_samples_;
-  const VolumeShadow volume_shadow(shadow, view_.camera.position);
+void FroxelFog::decide_regime(const ShadowMap& shadow, const ShadowMap* previous) {
+  const bool use_history = profile_.reprojection && have_history_ && view_history_valid_;
   // The previous map matters only to history, and only when the sun itself
   // moved (a camera move re-fits the map around the same light).
-  light_changed_ = use_history_ && profile_.light_change_rejection && previous && previous->size > 0 &&
+  light_changed_ = use_history && profile_.light_change_rejection && previous && previous->size > 0 &&
                    shadow.size > 0 && previous->direction_to_sun != shadow.direction_to_sun;
   // Whether the history saw another sun (whatever rejection is set to): no
   // still view then. Without a shadow map the visibility is 1 for any sun.
   const glm::vec3 sun = shadow.size > 0 ? shadow.direction_to_sun : glm::vec3(0.0f);
   const bool sun_moved = sun != history_sun_;
   history_sun_ = sun;
-  stats_.light_changed = light_changed_;
   // A still view: the history was lit by the same camera and sun, over the
   // same lit and active froxels (static geometry), so its samples differ
   // from this frame's only by the jitter.
-  still_ = use_history_ && !sun_moved && same_view(view_, history_view_) &&
-           view_.lit_slices == history_view_.lit_slices && view_.active_slices == history_view_.active_slices;
+  const bool still = use_history && !sun_moved && same_view(view_, history_view_) &&
+                     view_.lit_slices == history_view_.lit_slices &&
+                     view_.active_slices == history_view_.active_slices;
   // A still view's samples repeat with the jitter sequence: once each phase
   // is in (add_still_sample), their mean is the converged lighting and stands
   // in for it; reprojection then only fades the history towards it.
-  const bool accumulating = still_ && profile_.still_accumulation && lighting_samples_ == 1 && density_kept_;
+  const bool accumulating = still && profile_.still_accumulation && lighting_samples_ == 1 && density_kept_;
   if (!accumulating) still_phases_ = 0;
-  stats_.jitter_complete = still_phases_ == kAllPhases;
-  // Once what the history holds besides that mean is under 1/64 of it, a
-  // frame changes nothing visible: the visibility (and the density it was
-  // lit with) is kept as it is.
-  frozen_ = stats_.jitter_complete && fading_share_ < kFreezeShare;
-  stats_.lighting_frozen = frozen_;
-  if (frozen_) return;
-  volume_stale_ = true;
-  if (stats_.jitter_complete) {
-    blended_ = -1;
-    return;
+  if (!use_history) {
+    regime_ = FogRegime::NoHistory;
+  } else if (!still) {
+    regime_ = FogRegime::Moving;
+  } else if (!accumulating) {
+    regime_ = FogRegime::Still;
+  } else if (still_phases_ != kAllPhases) {
+    regime_ = FogRegime::StillAccumulating;
+  } else {
+    // Once what the history holds besides that mean is under 1/64 of it, a
+    // frame changes nothing visible: the visibility (and the density it was
+    // lit with) is kept as it is.
+    regime_ = fading_share_ < kFreezeShare ? FogRegime::Frozen : FogRegime::StillMean;
   }
+  // In a still view the jitter sequence repeats every kJitterFrames; the
+  // reprojection's running mean counts the still frames.
+  still_frames_ = still ? std::min(still_frames_ + 1, kMaxStillFrames) : 0;
+  // The filter trades bias for less noise and ghosting in motion; a still
+  // view with a whole jitter sequence accumulated needs neither.
+  const bool converged = profile_.still_accumulation && still_frames_ >= kJitterFrames;
+  filter_now_ = profile_.filter && !converged;
+  stats_.history_used = use_history;
+  stats_.light_changed = light_changed_;
+  stats_.still_frames = still_frames_;
+  stats_.filtered = filter_now_;
+  stats_.jitter_complete = regime_ == FogRegime::StillMean || regime_ == FogRegime::Frozen;
+  stats_.lighting_frozen = regime_ == FogRegime::Frozen;
+}
+
+void FroxelFog::lighting(const ShadowMap& shadow, JobSystem& jobs, const ShadowMap* previous) {
+  decide_regime(shadow, previous);
+  switch (regime_) {
+    case FogRegime::Frozen:
+      return;  // last frame's visibility stands
+    case FogRegime::StillMean:
+      volume_stale_ = true;
+      blended_ = -1;  // reprojection blends the still mean, not a lighting
+      return;
+    case FogRegime::NoHistory:
+    case FogRegime::Moving:
+    case FogRegime::Still:
+    case FogRegime::StillAccumulating:
+      break;
+  }
+  volume_stale_ = true;
+  const bool accumulating = regime_ == FogRegime::StillAccumulating;
+  JitterInputs jitter;
+  jitter.enabled = profile_.jitter;
+  jitter.frame = frame_;
+  jitter.samples = lighting_samples_;
+  const VolumeShadow volume_shadow(shadow, view_.camera.position);
   const VolumeShadow previous_shadow = light_changed_ ? VolumeShadow(*previous, view_.camera.position) : VolumeShadow();
   // Each job voxelises its rows right before lighting them (in cache).
   const std::function<void(int, int)> voxelize = [this](int y0, int y1) {
@@ -137,26 +170,34 @@ void FroxelFog::add_still_sample(JobSystem& jobs) {
 }
 
 void FroxelFog::reproject(JobSystem& jobs) {
-  // In a still view the jitter sequence repeats every kJitterFrames. A
-  // running mean (weight s / (s + 1) once it exceeds the profile's) averages
-  // it evenly and converges to the many-sample result, where a fixed weight
-  // keeps cycling around it; nothing moves, so there is no ghost to clamp.
-  still_frames_ = still_ ? std::min(still_frames_ + 1, kMaxStillFrames) : 0;
-  stats_.still_frames = still_frames_;
-  if (!profile_.reprojection || frozen_) return;
+  if (!profile_.reprojection || regime_ == FogRegime::Frozen) return;
   float weight = profile_.history_weight;
   bool clamp = profile_.history_clamp;
-  if (stats_.jitter_complete) {
-    // A constant target: the profile's weight fades the rest geometrically.
-    fading_share_ *= weight;
-    clamp = false;
-  } else if (still_ && profile_.still_accumulation) {
-    weight = std::max(weight, float(still_frames_) / float(still_frames_ + 1));
-    clamp = false;
+  switch (regime_) {
+    case FogRegime::StillMean:
+      // A constant target: the profile's weight fades the rest geometrically.
+      fading_share_ *= weight;
+      clamp = false;
+      break;
+    case FogRegime::Still:
+    case FogRegime::StillAccumulating:
+      // The jitter sequence repeats every kJitterFrames. A running mean
+      // (weight s / (s + 1) once it exceeds the profile's) averages it evenly
+      // and converges to the many-sample result, where a fixed weight keeps
+      // cycling around it; nothing moves, so there is no ghost to clamp.
+      if (profile_.still_accumulation) {
+        weight = std::max(weight, float(still_frames_) / float(still_frames_ + 1));
+        clamp = false;
+      }
+      break;
+    case FogRegime::NoHistory:
+    case FogRegime::Moving:
+    case FogRegime::Frozen:
+      break;
   }
   std::vector<float>& out = history_[current_];
-  if (use_history_) {
-    const std::vector<float>& current = stats_.jitter_complete ? still_mean_ : sun_current_;
+  if (regime_ != FogRegime::NoHistory) {
+    const std::vector<float>& current = regime_ == FogRegime::StillMean ? still_mean_ : sun_current_;
     stats_.reproject = reproject_history(view_, current, history_view_, history_[1 - current_], weight, clamp,
                                          jobs, out, light_changed_ ? &light_change_ : nullptr);
   } else {
@@ -169,12 +210,7 @@ void FroxelFog::reproject(JobSystem& jobs) {
 }
 
 void FroxelFog::filter(JobSystem& jobs) {
-  // The filter trades bias for less noise and ghosting in motion; a still
-  // view with a whole jitter sequence accumulated needs neither.
-  const bool converged = profile_.still_accumulation && still_frames_ >= kJitterFrames;
-  filtered_now_ = profile_.filter && !converged;
-  stats_.filtered = filtered_now_;
-  if (filtered_now_) filter_slices(view_, blended(), jobs, scratch_, filtered_);
+  if (filter_now_) filter_slices(view_, blended(), jobs, scratch_, filtered_);
 }
 
 MediumLighting medium_lighting(const FogSceneSettings& scene, const LightEnvironment& light, const Camera& camera) {
@@ -195,19 +231,20 @@ void FroxelFog::integrate(const LightEnvironment& light, JobSystem& jobs) {
   const bool same_light = same_medium_lighting(m, integrated_light_) && knots == integrated_knots_;
   // Nothing the integration reads has changed (a frozen view's density and
   // visibility, the same light): last frame's volume is this frame's, bit for bit.
-  stats_.volume_kept = frozen_ && !volume_stale_ && same_light;
+  stats_.volume_kept = regime_ == FogRegime::Frozen && !volume_stale_ && same_light;
   if (stats_.volume_kept) return;
   // A still view saves the visibility it integrates. The next frame, if it
   // is still too, has the same view, lit and active froxels and density (the
   // volume was integrated last frame, or kept since): under the same light
   // it integrates only what changed.
+  const bool still = is_still(regime_);
   IncrementalIntegration incremental;
-  if (still_) {
+  if (still) {
     incremental.previous = &integrated_visibility_;
     incremental.continue_volume = visibility_saved_ && density_kept_ && same_light;
   }
   stats_.integrated_froxels = integrate_columns(view_, density_, sun_visibility(), m, knots, jobs, volume_, incremental);
-  visibility_saved_ = still_;
+  visibility_saved_ = still;
   integrated_light_ = m;
   integrated_light_.light = nullptr;  // borrowed for this frame only
   integrated_knots_ = std::move(knots);

@@ -7,8 +7,9 @@
 // voxelisation (volume footprints); lighting writes the density of each row
 // of columns right before it lights the row, so the row is read from cache
 // (a view seen last frame keeps its density, and the lighting prefetches
-// the row). A still view lights until its jitter sequence is complete, then
-// fades its history to the sequence's mean and freezes (see lighting()).
+// the row). How a frame uses its history is one FogRegime, decided once per
+// frame (decide_regime): a still view lights until its jitter sequence is
+// complete, then fades its history to the sequence's mean and freezes.
 #include <span>
 #include <vector>
 
@@ -42,6 +43,27 @@ struct FroxelFogStats {
                                  // between a column's first and last unsettled one included); else 0
 };
 
+// What the history is to a frame, and so what each step does with it. Along
+// a still view that collects jitter phases the regimes run StillAccumulating,
+// StillMean, Frozen; one that does not stays Still.
+enum class FogRegime {
+  NoHistory,  // no history to use (first frame, a cut or reset_history, reprojection off,
+              // FrameView::history_valid false): this frame's light alone
+  Moving,     // the history saw another camera or sun, or other lit or active froxels:
+              // reprojected, clamped (profile), dropped where the light changed
+  Still,      // the history's camera, sun and froxels, without collecting jitter phases
+              // (still_accumulation off, several lighting samples a frame, or the density
+              // voxelised anew): lit, blended by a running mean (with still_accumulation)
+  StillAccumulating,  // ... collecting one sample per jitter phase: lit (with still_settled, only
+                      // the unsettled froxels) and blended by a running mean, unclamped
+  StillMean,  // ... every phase in: their mean stands in for the lighting, and reprojection
+              // fades the rest of the history towards it
+  Frozen,     // ... the history within 1/64 of that mean: lighting and reprojection skipped,
+              // and integration too under the same light
+};
+// The history's camera, sun and froxels are this frame's (only the jitter differs).
+constexpr bool is_still(FogRegime r) { return r >= FogRegime::Still; }
+
 // The lighting integration applies: the scene's phase function, the light
 // environment's sun and sky ambient, relative to the camera.
 MediumLighting medium_lighting(const FogSceneSettings& scene, const LightEnvironment& light, const Camera& camera);
@@ -74,6 +96,8 @@ class FroxelFog {
   void set_lighting_samples(int n) { lighting_samples_ = n; }
   // Forgets the history (as after a camera cut).
   void reset_history() { have_history_ = false; }
+  // This frame's regime, once lighting has run.
+  FogRegime regime() const { return regime_; }
 
   const FogProfileSettings& profile() const { return profile_; }
   const FogSceneSettings& scene() const { return scene_; }
@@ -82,13 +106,17 @@ class FroxelFog {
   const FroxelView& view() const { return view_; }
   const std::vector<FogDensity>& density_volume() const { return density_; }
   // The sun visibility the integration uses (after reprojection and filter).
-  const std::vector<float>& sun_visibility() const { return filtered_now_ ? filtered_ : blended(); }
+  const std::vector<float>& sun_visibility() const { return filter_now_ ? filtered_ : blended(); }
   // Valid in each column's active slices (view().active_slices).
   const std::vector<IntegratedFroxel>& volume() const { return volume_; }
   const FroxelFogStats& stats() const { return stats_; }
 
  private:
   const std::vector<float>& blended() const { return blended_ < 0 ? sun_current_ : history_[blended_]; }
+  // The frame's regime and what follows from it (light change, still frames,
+  // filter, stats), from the view, the density, the shadow maps and the
+  // history: the one place a frame's treatment of its history is decided.
+  void decide_regime(const ShadowMap& shadow, const ShadowMap* previous);
   // Adds this frame's sample to the still run's (once per jitter phase).
   void add_still_sample(JobSystem& jobs);
 
@@ -97,8 +125,9 @@ class FroxelFog {
   FogMedium medium_;
   FroxelView view_;
   int frame_ = 0;
-  bool use_history_ = false;
-  bool have_history_ = false;
+  bool view_history_valid_ = false;  // this frame's FrameView::history_valid
+  bool have_history_ = false;        // a blend is in history_[1 - current_] (reset_history forgets it)
+  FogRegime regime_ = FogRegime::NoHistory;
   int lighting_samples_ = 1;
   DensityPlan density_plan_;
   std::vector<FogDensity> density_;
@@ -110,15 +139,16 @@ class FroxelFog {
   std::vector<SliceSpan> unsettled_;  // a still view's slices to light per column (settled_froxels.h)
   std::vector<uint64_t> settled_scratch_;
   std::vector<float> light_change_;  // valid this frame when light_changed_
+  // The sun moved since the history's shadow map (with light_change_rejection):
+  // lighting measures light_change_ and reprojection drops history by it.
+  // Decided with the regime; in practice Moving, as a moved sun ends a still view.
   bool light_changed_ = false;
   glm::vec3 history_sun_{0.0f};  // the last frame's shadow-map sun (0: no map)
-  bool still_ = false;           // this frame's camera and sun are the history's
-  bool frozen_ = false;          // a converged still view: lighting and reprojection keep last frame's result
   std::vector<float> history_[2];  // [current_] written this frame, the other read
   int current_ = 0;
   FroxelView history_view_;
   std::vector<float> scratch_, filtered_;
-  bool filtered_now_ = false;  // filtered_ holds this frame's filter output
+  bool filter_now_ = false;  // the filter runs this frame: filtered_ holds its output
   static constexpr int kMaxStillFrames = 1 << 16;  // the running mean's weight stops at 65536 / 65537
   int still_frames_ = 0;
   // The still run's samples, one per jitter phase (lit slices): their sum,
