@@ -58,7 +58,9 @@ TEST_CASE("a GLB whose JSON chunk length is wrong blames the JSON chunk, not the
 
 // Found by fuzz_image in a 10-minute run: 1.4 KB of JPEG whose frame header
 // says 11536x15121 and whose data ends at once; libjpeg filled the rest with
-// grey, so decoding and mipmapping took over a minute.
+// grey, so decoding and mipmapping took over a minute. Refusing it takes about
+// 3 s in a release build and 6-7 s under ASan on a busy 2-core machine: the
+// bound is well below the fault's minute and well above those.
 TEST_CASE("fuzz findings: a JPEG whose data ends early is refused as truncated, before the image is decoded") {
   const std::string path = cr::test::bad_input("fuzz_image_jpeg_truncated_huge.gltf");
   const auto t0 = std::chrono::steady_clock::now();
@@ -66,5 +68,5 @@ TEST_CASE("fuzz findings: a JPEG whose data ends early is refused as truncated, 
   const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   CHECK(msg == path + ": image 0: truncated or corrupt JPEG data (its header gives 11536x15121, but the data does not "
                       "decode: JPEG data is truncated)");
-  CHECK(s < 5.0);
+  CHECK(s < 20.0);
 }
