@@ -249,15 +249,9 @@ int sky_bench_command(const std::vector<std::string>& args) {
   std::vector<double> means, p95s, work;
   std::map<std::string, int> causes;
   for (int f = 0; f < frames; ++f) {
-    const double t = double(f);
-    const glm::dvec3 pos(t * 3.0, altitude + t * 0.5, t * 1.0);
-    const double yaw = t * 0.2 * kPiD / 180.0;
-    const Camera pc = Camera::look_at(pos, pos + glm::dvec3(std::cos(yaw), -0.05, std::sin(yaw)), 1.0471976f,
-                                      float(pw) / float(ph), 0.1f);
-    const double elev = (30.0 - t * 0.1) * kPiD / 180.0;  // setting sun, 0.1 deg per frame
-    const glm::vec3 ps(float(std::cos(elev) * 0.8), float(std::sin(elev)), float(std::cos(elev) * 0.6));
-    update_sky_case(amortised_case, f, pc, glm::normalize(ps), e, jobs);
-    update_sky_case(full_case, f, pc, glm::normalize(ps), e, jobs);
+    const Camera pc = path_camera(f, altitude, float(pw) / float(ph));
+    update_sky_case(amortised_case, f, pc, path_sun(f), e, jobs);
+    update_sky_case(full_case, f, pc, path_sun(f), e, jobs);
     double frame_work = 0.0;
     for (int k = 0; k < kLutKinds; ++k) {
       if (amortised_case.plan.work[size_t(k)].active) {
@@ -268,8 +262,8 @@ int sky_bench_command(const std::vector<std::string>& args) {
     work.push_back(frame_work);
     ba.resize(pw, ph);
     bf.resize(pw, ph);
-    fill_test_buffers(ba, pc, pos.y);
-    fill_test_buffers(bf, pc, pos.y);
+    fill_test_buffers(ba, pc, pc.position.y);
+    fill_test_buffers(bf, pc, pc.position.y);
     composite_sky(amortised_case.frame, ba, 0, 0, pw, ph);
     composite_sky(full_case.frame, bf, 0, 0, pw, ph);
     const ErrorStats es = relative_error(ba.color, bf.color, {});

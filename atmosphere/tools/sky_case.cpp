@@ -77,6 +77,18 @@ void update_sky_case(SkyCase& c, int frame, const Camera& camera, const glm::vec
   c.frame = make_sky_frame(*c.luts, c.plan, camera, c.offset, illuminance);
 }
 
+Camera path_camera(int frame, double altitude, float aspect) {
+  const double t = double(frame);
+  const glm::dvec3 pos(t * 3.0, altitude + t * 0.5, t * 1.0);
+  const double yaw = t * 0.2 * kPiD / 180.0;
+  return Camera::look_at(pos, pos + glm::dvec3(std::cos(yaw), -0.05, std::sin(yaw)), 1.0471976f, aspect, 0.1f);
+}
+
+glm::vec3 path_sun(int frame) {
+  const double elev = (30.0 - double(frame) * 0.1) * kPiD / 180.0;
+  return glm::normalize(glm::vec3(float(std::cos(elev) * 0.8), float(std::sin(elev)), float(std::cos(elev) * 0.6)));
+}
+
 Camera horizon_camera(double altitude, int width, int height) {
   return Camera::look_at(glm::dvec3(0.0, altitude, 0.0), glm::dvec3(1000.0, altitude, 0.0), 1.0471976f,
                          float(width) / float(height), 0.1f);

@@ -39,6 +39,11 @@ SkyCase make_sky_case(const SkySetup& setup, const AtmosphereSettings& settings)
 void update_sky_case(SkyCase& c, int frame, const Camera& camera, const glm::vec3& sun, const glm::vec3& illuminance,
                      JobSystem& jobs);
 
+// The camera path sky-bench and sky-environment measure schedules along: from
+// `altitude`, 3 m forward and 0.5 m up per frame, turning 0.2 deg per frame.
+Camera path_camera(int frame, double altitude, float aspect);
+// The sun along that path: setting 0.1 deg per frame from 30 deg (unit).
+glm::vec3 path_sun(int frame);
 // A camera `altitude` metres above the ground looking at the horizon towards +X (the sun's azimuth).
 Camera horizon_camera(double altitude, int width, int height);
 // The unit direction to a sun `zenith_deg` from the zenith, in the +X azimuth.

@@ -226,14 +226,7 @@ int sky_environment_command(const std::vector<std::string>& args) {
   int worst_at = 0;
   std::map<std::string, int> causes;
   for (int f = 0; f < frames; ++f) {
-    const double t = double(f);
-    const glm::dvec3 pos(t * 3.0, altitude + t * 0.5, t * 1.0);
-    const double yaw = t * 0.2 * kPiD / 180.0;
-    const Camera pc = Camera::look_at(pos, pos + glm::dvec3(std::cos(yaw), -0.05, std::sin(yaw)), 1.0471976f,
-                                      16.0f / 9.0f, 0.1f);
-    const double elev = (30.0 - t * 0.1) * kPiD / 180.0;
-    const glm::vec3 ps(float(std::cos(elev) * 0.8), float(std::sin(elev)), float(std::cos(elev) * 0.6));
-    update_sky_case(c, f, pc, glm::normalize(ps), e, jobs);
+    update_sky_case(c, f, path_camera(f, altitude, 16.0f / 9.0f), path_sun(f), e, jobs);
     const uint64_t upstream = c.luts->version(LutKind::MultiScattering);
     const EnvironmentWork wa = amortised.plan(c.plan, upstream), wf = every.plan(c.plan, upstream);
     amortised.run(wa, c.plan, upstream, c.frame, jobs);
