@@ -1,8 +1,9 @@
 #pragma once
 // The light a frame's surfaces receive: the sun and an ambient (sky) term,
 // optionally with a prefiltered environment for glossy reflections.
-// The engine fills it from the scene file; a plugin (the atmosphere) may
-// overwrite it in a pass that writes the "light_environment" resource.
+// The engine fills it from the scene file; the plugin that provides the
+// light environment (the atmosphere) rewrites it in a pass that writes
+// EngineResources::light (engine/render/plugin.h).
 #include <array>
 #include <cstddef>
 #include <functional>
