@@ -14,6 +14,7 @@
 #include "atmosphere/tools/reference_renderer.h"
 #include "atmosphere/tools/sky_case.h"
 #include "atmosphere/tools/sky_commands.h"
+#include "engine/cli/cli_common.h"
 #include "engine/core/error.h"
 #include "engine/core/luminance.h"
 #include "engine/core/math_constants.h"
@@ -135,7 +136,7 @@ int sky_accuracy_command(const std::vector<std::string>& args) {
   if (p.has("reference")) stored_dirs = p.get_list("reference");
   std::erase(stored_dirs, std::string());
   if (!out.empty()) std::filesystem::create_directories(out);
-  JobSystem jobs(sky_threads(p));
+  JobSystem jobs(threads_option(p));
   AtmosphereSettings full = setup.settings;
   full.full_schedule = true;
   const glm::vec3 e(110000.0f);

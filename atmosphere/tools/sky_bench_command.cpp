@@ -14,6 +14,7 @@
 #include "atmosphere/sky_composite.h"
 #include "atmosphere/tools/sky_case.h"
 #include "atmosphere/tools/sky_commands.h"
+#include "engine/cli/cli_common.h"
 #include "engine/core/luminance.h"
 #include "engine/core/math_constants.h"
 #include "engine/output/percentile.h"
@@ -159,7 +160,7 @@ int sky_bench_command(const std::vector<std::string>& args) {
       .option("frames", "N", "frames of the amortisation path", "240");
   if (!p.parse(args, 0, 0)) return 0;
   const SkySetup setup = load_sky_setup(p);
-  const unsigned all_threads = sky_threads(p);
+  const unsigned all_threads = threads_option(p);
   const int repeat = p.get_int("repeat", 1, 1000);
   const int width = p.get_int("width", 16, 16384);
   const int height = p.get_int("height", 16, 16384);

@@ -2,12 +2,12 @@
 
 #include <chrono>
 #include <cmath>
-#include <fstream>
 
 #include <nlohmann/json.hpp>
 
 #include "atmosphere/planet_frame.h"
 #include "engine/core/error.h"
+#include "engine/core/json_input.h"
 #include "engine/core/math_constants.h"
 
 namespace cr {
@@ -15,16 +15,6 @@ namespace cr {
 namespace {
 
 const char* const kCommandLine = "command line";
-
-nlohmann::json read_json(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path, "cannot be read");
-  try {
-    return nlohmann::json::parse(in);
-  } catch (const nlohmann::json::exception& e) {
-    throw InputError(path, std::string("invalid JSON: ") + e.what());
-  }
-}
 
 }  // namespace
 
@@ -40,7 +30,7 @@ SkySetup load_sky_setup(const ArgParser& p) {
   SkySetup s;
   if (p.has("scene")) {
     const std::string path = p.get("scene");
-    const nlohmann::json doc = read_json(path);
+    const nlohmann::json doc = load_json_file(path);
     if (!doc.is_object() || !doc.contains("atmosphere"))
       throw InputError(path, "atmosphere: the scene has no atmosphere section");
     s.scene = parse_atmosphere_scene(doc["atmosphere"], path);
@@ -49,16 +39,12 @@ SkySetup load_sky_setup(const ArgParser& p) {
   }
   if (p.has("profile")) {
     const std::string path = p.get("profile");
-    const nlohmann::json doc = read_json(path);
+    const nlohmann::json doc = load_json_file(path);
     s.settings = parse_atmosphere_settings(doc.is_object() && doc.contains("atmosphere") ? doc["atmosphere"]
                                                                                          : nlohmann::json(),
                                            path);
   }
   return s;
-}
-
-unsigned sky_threads(const ArgParser& p) {
-  return p.has("threads") ? unsigned(p.get_int("threads", 1, 1024)) : JobSystem::default_thread_count();
 }
 
 SkyCase make_sky_case(const SkySetup& setup, const AtmosphereSettings& settings) {

@@ -24,7 +24,6 @@ struct SkySetup {
 void add_sky_setup_options(ArgParser& p);
 // --scene FILE (its "atmosphere" section) or --preset NAME; --profile FILE (its "atmosphere" section).
 SkySetup load_sky_setup(const ArgParser& p);
-unsigned sky_threads(const ArgParser& p);  // --threads, default all cores
 
 // The LUTs and frame state of one view.
 struct SkyCase {

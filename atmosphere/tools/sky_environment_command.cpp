@@ -12,6 +12,7 @@
 #include "atmosphere/sky_lighting.h"
 #include "atmosphere/tools/sky_case.h"
 #include "atmosphere/tools/sky_commands.h"
+#include "engine/cli/cli_common.h"
 #include "engine/core/luminance.h"
 #include "engine/core/math_constants.h"
 #include "engine/output/percentile.h"
@@ -138,7 +139,7 @@ int sky_environment_command(const std::vector<std::string>& args) {
   if (!p.parse(args, 0, 0)) return 0;
   const SkySetup setup = load_sky_setup(p);
   const AtmosphereSettings& s = setup.settings;
-  const unsigned all_threads = sky_threads(p);
+  const unsigned all_threads = threads_option(p);
   const int repeat = p.get_int("repeat", 1, 1000);
   const int ndirs = p.get_int("directions", 4, 100000);
   const int samples = p.get_int("samples", 16, 1 << 20);

@@ -6,6 +6,7 @@
 #include "atmosphere/tools/lut_debug_output.h"
 #include "atmosphere/tools/sky_case.h"
 #include "atmosphere/tools/sky_commands.h"
+#include "engine/cli/cli_common.h"
 
 namespace cr {
 
@@ -21,7 +22,7 @@ int sky_luts_command(const std::vector<std::string>& args) {
   const SkySetup setup = load_sky_setup(p);
   AtmosphereSettings full = setup.settings;
   full.full_schedule = true;
-  JobSystem jobs(sky_threads(p));
+  JobSystem jobs(threads_option(p));
   SkyCase c = make_sky_case(setup, full);
   const double altitude = p.get_double("altitude", -1e4, 1e7);
   const double zenith = p.get_double("sun-zenith", 0.0, 180.0);

@@ -56,8 +56,7 @@ int bench_command(const std::vector<std::string>& args, const PluginRegistry& re
   add_model_access_options(p);
   if (!p.parse(args, 0, 64)) return 0;
   const int frames = p.get_int("frames", 1, 100000), warmup = p.get_int("warmup", 0, 1000);
-  const unsigned max_threads =
-      p.has("threads") ? unsigned(p.get_int("threads", 1, 1024)) : JobSystem::default_thread_count();
+  const unsigned max_threads = threads_option(p);
   const auto [w, h] = parse_resolution(p.get("resolution"), "bench");
 
   std::vector<std::string> scenes;

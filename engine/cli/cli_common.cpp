@@ -79,6 +79,10 @@ RunSetup load_run(const std::string& scene_path, const std::string& profile, con
   return s;
 }
 
+unsigned threads_option(const ArgParser& p) {
+  return p.has("threads") ? unsigned(p.get_int("threads", 1, 1024)) : JobSystem::default_thread_count();
+}
+
 RunSetup load_run_setup(const ArgParser& p, const PluginRegistry& registry) {
   int w = 0, h = 0;
   if (p.has("resolution")) std::tie(w, h) = parse_resolution(p.get("resolution"), "render");

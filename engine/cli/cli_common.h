@@ -40,6 +40,8 @@ void add_model_access_options(ArgParser& p);
 GltfLoadOptions model_access(const ArgParser& p);
 // Loads scene (positional 0 or the default scene), profile and glTF, applying overrides.
 RunSetup load_run_setup(const ArgParser& p, const PluginRegistry& registry);
+// --threads N (1..1024), default: all hardware threads.
+unsigned threads_option(const ArgParser& p);
 // Loads the inputs of one run without a command line (benchmarks, golden tests).
 // `model` says what the glTF may do (missing images, paths); its texture
 // budget is the profile's. The run's memory estimate is checked against

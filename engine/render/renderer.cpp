@@ -7,13 +7,15 @@
 #include "engine/render/frame_view.h"
 #include "engine/render/passes/draw_materials.h"
 #include "engine/render/passes/engine_passes.h"
+#include "engine/render/passes/surface_lookup.h"
 
 namespace cr {
 
 Renderer::Renderer(const Scene& scene, const SceneDescription& description, const Profile& profile,
                    std::vector<std::unique_ptr<Plugin>> plugins, JobSystem& jobs)
     : scene_(scene), description_(description), profile_(profile), jobs_(jobs),
-      visibility_(std::make_unique<Visibility>()), shadow_state_(std::make_unique<ShadowPassState>()) {
+      visibility_(std::make_unique<Visibility>()), shadow_state_(std::make_unique<ShadowPassState>()),
+      surfaces_(std::make_unique<SurfaceLookup>(scene)) {
   if (description.camera.gltf_camera && *description.camera.gltf_camera >= int(scene.cameras.size()))
     throw InputError(description.path, "camera.gltf_camera is " + std::to_string(*description.camera.gltf_camera) +
                                            " but '" + scene.source + "' has " + std::to_string(scene.cameras.size()) +
@@ -94,8 +96,8 @@ const FrameRecord& Renderer::render_frame(int frame) {
     if (engine.light.version() != light.version())
       throw Error("plugin '" + p->name() + "' writes the light environment but does not provide it");
   }
-  add_shade_pass(graph, ctx, engine, targets, pixels_shaded_);
-  if (has_blended_draws_) add_transparent_pass(graph, ctx, engine, targets);
+  add_shade_pass(graph, ctx, *surfaces_, engine, targets, pixels_shaded_);
+  if (has_blended_draws_) add_transparent_pass(graph, ctx, *surfaces_, engine, targets);
   std::vector<Plugin*> compositors;
   for (auto& p : plugins_)
     if (p->has_composite()) compositors.push_back(p.get());

@@ -25,6 +25,7 @@ namespace cr {
 
 class DisplayTransform;
 struct ShadowPassState;
+class SurfaceLookup;
 struct Visibility;
 
 // Timing of one rendered frame and its rasterizer counts.
@@ -71,6 +72,7 @@ class Renderer {
   LightEnvironment light_;
   std::unique_ptr<Visibility> visibility_;         // the geometry pass's rasterizer and draws
   std::unique_ptr<ShadowPassState> shadow_state_;  // the shadow pass's rasterizer and casters
+  std::unique_ptr<SurfaceLookup> surfaces_;        // the shading passes' triangle lookup (materials fixed)
   bool has_blended_draws_ = false;                 // the scene has alpha-BLEND draws: a transparent pass
   std::unique_ptr<DisplayTransform> display_;  // built once per exposure
   FrameRecord record_;

@@ -6,6 +6,7 @@
 
 #include "engine/core/error.h"
 #include "fog/tools/fog_accuracy.h"
+#include "engine/cli/cli_common.h"
 #include "fog/tools/fog_command_common.h"
 #include "fog/tools/fog_commands.h"
 
@@ -25,7 +26,7 @@ int fog_accuracy_command(const std::vector<std::string>& args, const PluginRegis
   const int samples = a.get_int("samples", 1, 65536);
   const int warmup = a.get_int("warmup", 0, 1000);
   const FogRun run = load_fog_run(a, registry);
-  JobSystem jobs(fog_command_threads(a));
+  JobSystem jobs(threads_option(a));
 
   const FogAccuracy result = measure_fog_accuracy(run, registry, jobs, frame, samples, warmup);
   std::printf("fog-accuracy %s frame %d, %dx%d, %u threads, reference %d samples/pixel\n", run.description.path.c_str(),

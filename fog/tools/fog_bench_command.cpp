@@ -9,6 +9,7 @@
 #include "engine/core/error.h"
 #include "engine/output/percentile.h"
 #include "engine/render/frame_view.h"
+#include "engine/cli/cli_common.h"
 #include "fog/tools/fog_command_common.h"
 #include "fog/tools/fog_commands.h"
 
@@ -28,7 +29,7 @@ int fog_bench_command(const std::vector<std::string>& args, const PluginRegistry
     run.description = with_turning_sun(
         run.description, make_frame_view(*run.scene, run.description, 0, run.profile.width, run.profile.height),
         frames, sun_turn);
-  const unsigned all = fog_command_threads(a);
+  const unsigned all = threads_option(a);
   std::printf("fog-bench %s, %dx%d, median of %d frames\n", run.description.path.c_str(), run.profile.width,
               run.profile.height, frames - 2);
   std::printf("%-18s %12s %12s\n", "pass (ms)", "1 thread", (std::to_string(all) + " threads").c_str());

@@ -30,10 +30,6 @@ void add_fog_command_options(ArgParser& p) {
       .option("threads", "N", "worker threads (default: all cores)");
 }
 
-unsigned fog_command_threads(const ArgParser& p) {
-  return p.has("threads") ? unsigned(p.get_int("threads", 1, 1024)) : JobSystem::default_thread_count();
-}
-
 FogRun load_fog_run(const ArgParser& args, const PluginRegistry& registry) {
   FogRun run;
   const std::vector<std::string> sections = registry.names();

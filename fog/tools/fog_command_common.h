@@ -20,7 +20,6 @@ namespace cr {
 
 // The options every fog command takes: --profile, --resolution, --threads.
 void add_fog_command_options(ArgParser& p);
-unsigned fog_command_threads(const ArgParser& p);
 
 struct FogRun {
   SceneDescription description;

@@ -17,6 +17,7 @@
 
 #include "engine/core/error.h"
 #include "engine/render/frame_view.h"
+#include "engine/cli/cli_common.h"
 #include "fog/tools/fog_command_common.h"
 #include "fog/tools/fog_commands.h"
 
@@ -102,7 +103,7 @@ int fog_temporal_command(const std::vector<std::string>& args, const PluginRegis
       .option("sun-turn", "DEG", "degrees the sun's azimuth turns per frame on the moving-sun path", "2");
   if (!a.parse(args, 1, 1)) return 0;
   const FogRun run = load_fog_run(a, registry);
-  JobSystem jobs(fog_command_threads(a));
+  JobSystem jobs(threads_option(a));
   const int frames = a.get_int("frames", 9, 10000);
   const double speed = a.get_double("speed", 0.0, 1e4);
   const double turn = a.get_double("turn", -180.0, 180.0);

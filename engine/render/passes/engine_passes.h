@@ -19,6 +19,7 @@
 namespace cr {
 
 class DisplayTransform;
+class SurfaceLookup;
 
 // The camera's visibility: the rasterizer (visibility buffer, bins), the
 // frame's draws in view (the blended ones back to front), its counts and,
@@ -63,11 +64,11 @@ void add_geometry_pass(FrameGraph& graph, const FrameContext& ctx, EngineResourc
                        EngineTargets& targets);
 // "shade": every pixel (and edge fragment) once from its triangle id;
 // `pixels_shaded` receives the count.
-void add_shade_pass(FrameGraph& graph, const FrameContext& ctx, const EngineResources& engine,
-                    EngineTargets& targets, uint64_t& pixels_shaded);
+void add_shade_pass(FrameGraph& graph, const FrameContext& ctx, const SurfaceLookup& surfaces,
+                    const EngineResources& engine, EngineTargets& targets, uint64_t& pixels_shaded);
 // "transparent": the blended draws in view, over the shaded colour.
-void add_transparent_pass(FrameGraph& graph, const FrameContext& ctx, const EngineResources& engine,
-                          EngineTargets& targets);
+void add_transparent_pass(FrameGraph& graph, const FrameContext& ctx, const SurfaceLookup& surfaces,
+                          const EngineResources& engine, EngineTargets& targets);
 // "composite": the plugins' per-pixel composites, in their order.
 void add_composite_pass(FrameGraph& graph, const std::vector<Plugin*>& compositors, const EngineResources& engine,
                         EngineTargets& targets);

@@ -36,8 +36,8 @@ struct ShadeQueue {
 
 }  // namespace
 
-void add_shade_pass(FrameGraph& graph, const FrameContext& ctx, const EngineResources& engine,
-                    EngineTargets& targets, uint64_t& pixels_shaded) {
+void add_shade_pass(FrameGraph& graph, const FrameContext& ctx, const SurfaceLookup& surfaces_of,
+                    const EngineResources& engine, EngineTargets& targets, uint64_t& pixels_shaded) {
   struct Data {
     FrameGraphId<Visibility> visibility;
     FrameGraphId<ShadowMap> shadow;
@@ -49,12 +49,11 @@ void add_shade_pass(FrameGraph& graph, const FrameContext& ctx, const EngineReso
     d.shadow = b.read(engine.shadow);
     d.light = b.read(engine.light);
     d.color = targets.color = b.write(targets.color);
-  }, [ctx, &pixels_shaded](const FrameGraph::Resources& r, const Data& d) {
+  }, [ctx, &surfaces_of, &pixels_shaded](const FrameGraph::Resources& r, const Data& d) {
     const Visibility& vis = r.get(d.visibility);
     FrameBuffers& buffers = r.get_mutable(d.color);
     JobSystem& jobs = r.jobs();
     const SurfaceShader shader = frame_shader(ctx, r.get(d.light), r.get(d.shadow));
-    const SurfaceLookup surfaces_of(ctx.scene);
     const float emissive = emissive_luminance(ctx.description);
     const int w = buffers.width, h = buffers.height;
     const std::vector<uint32_t>& ids = ctx.profile.msaa_samples == 1 ? vis.raster.visibility().triangle : vis.pixel_ids;

@@ -6,8 +6,8 @@
 
 namespace cr {
 
-void add_transparent_pass(FrameGraph& graph, const FrameContext& ctx, const EngineResources& engine,
-                          EngineTargets& targets) {
+void add_transparent_pass(FrameGraph& graph, const FrameContext& ctx, const SurfaceLookup& surfaces_of,
+                          const EngineResources& engine, EngineTargets& targets) {
   struct Data {
     FrameGraphId<Visibility> visibility;
     FrameGraphId<ShadowMap> shadow;
@@ -24,12 +24,11 @@ void add_transparent_pass(FrameGraph& graph, const FrameContext& ctx, const Engi
     b.read(engine.depth);
     b.read(targets.color);
     d.color = targets.color = b.write(targets.color);
-  }, [ctx](const FrameGraph::Resources& r, const Data& d) {
+  }, [ctx, &surfaces_of](const FrameGraph::Resources& r, const Data& d) {
     Visibility& vis = r.get_mutable(d.visibility);
     if (vis.blended.empty()) return;
     FrameBuffers& buffers = r.get_mutable(d.color);
     const SurfaceShader shader = frame_shader(ctx, r.get(d.light), r.get(d.shadow));
-    const SurfaceLookup surfaces_of(ctx.scene);
     const glm::dvec3 eye = ctx.view.camera.position;
     const int w = buffers.width;
     std::vector<EdgeFragment>& fragments = buffers.fragments;
