@@ -42,6 +42,7 @@ class AtmospherePlugin : public Plugin {
   std::vector<FrameGraphHandle> composite_reads() const override { return {sky_handle_}; }
   int composite_order() const override { return 100; }
   bool has_composite() const override { return true; }
+  bool composites_background() const override { return true; }
   void composite(FrameBuffers& buffers, int x0, int y0, int x1, int y1) override;
   void composite_fragments(const FrameBuffers& buffers, std::span<EdgeFragment> fragments) override;
   void report_frame(nlohmann::json& frame) override;

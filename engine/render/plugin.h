@@ -97,6 +97,10 @@ class Plugin {
     (void)buffers; (void)x0; (void)y0; (void)x1; (void)y1;
   }
   virtual bool has_composite() const { return false; }
+  // Whether the composite writes every pixel where nothing was drawn (depth
+  // 0) without reading its colour (a sky does): the shade pass then leaves
+  // those pixels to it instead of filling them with the flat background.
+  virtual bool composites_background() const { return false; }
   // The same composite for edge-pixel fragments (a range of buffers.fragments):
   // each at its own screen position and distance, in place; called from
   // parallel jobs on disjoint ranges. A plugin with a composite must give

@@ -96,11 +96,13 @@ const FrameRecord& Renderer::render_frame(int frame) {
     if (engine.light.version() != light.version())
       throw Error("plugin '" + p->name() + "' writes the light environment but does not provide it");
   }
-  add_shade_pass(graph, ctx, *surfaces_, engine, targets, pixels_shaded_);
-  if (has_blended_draws_) add_transparent_pass(graph, ctx, *surfaces_, engine, targets);
   std::vector<Plugin*> compositors;
   for (auto& p : plugins_)
     if (p->has_composite()) compositors.push_back(p.get());
+  const bool background_composited =
+      std::any_of(compositors.begin(), compositors.end(), [](const Plugin* p) { return p->composites_background(); });
+  add_shade_pass(graph, ctx, *surfaces_, engine, targets, !background_composited, pixels_shaded_);
+  if (has_blended_draws_) add_transparent_pass(graph, ctx, *surfaces_, engine, targets);
   if (!compositors.empty()) add_composite_pass(graph, compositors, engine, targets);
   add_resolve_pass(graph, ctx, display_, targets);
   graph.mark_output(targets.display);

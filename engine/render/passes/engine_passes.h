@@ -63,9 +63,12 @@ void add_shadow_pass(FrameGraph& graph, const FrameContext& ctx, bool scene_move
 void add_geometry_pass(FrameGraph& graph, const FrameContext& ctx, EngineResources& engine,
                        EngineTargets& targets);
 // "shade": every pixel (and edge fragment) once from its triangle id;
-// `pixels_shaded` receives the count.
+// pixels where nothing was drawn get the flat background when
+// `fill_background` (no plugin composites them); `pixels_shaded` receives
+// the count.
 void add_shade_pass(FrameGraph& graph, const FrameContext& ctx, const SurfaceLookup& surfaces,
-                    const EngineResources& engine, EngineTargets& targets, uint64_t& pixels_shaded);
+                    const EngineResources& engine, EngineTargets& targets, bool fill_background,
+                    uint64_t& pixels_shaded);
 // "transparent": the blended draws in view, over the shaded colour.
 void add_transparent_pass(FrameGraph& graph, const FrameContext& ctx, const SurfaceLookup& surfaces,
                           const EngineResources& engine, EngineTargets& targets);

@@ -1,6 +1,7 @@
 // "shade": every pixel once from its triangle id, then the edge fragments,
 // in batches of runs of points on one triangle.
 #include <algorithm>
+#include <cstring>
 #include <optional>
 
 #include "engine/render/passes/engine_passes.h"
@@ -34,10 +35,66 @@ struct ShadeQueue {
   }
 };
 
+// std::fill of a run of pixels, a few at a time: 16 pixels are 12 vector
+// stores, where the compiler's loop stores 12 bytes one scalar at a time.
+void fill_pixels(glm::vec3* out, int count, const glm::vec3& value) {
+  constexpr int kChunk = 16;
+  glm::vec3 chunk[kChunk];
+  std::fill(chunk, chunk + kChunk, value);
+  int k = 0;
+  for (; k + kChunk <= count; k += kChunk) std::memcpy(out + k, chunk, sizeof chunk);
+  std::fill(out + k, out + count, value);
+}
+
+// The triangles a band's pixels name, set up once each while they stay in a
+// small direct-mapped table (neighbouring rows cross the same triangles).
+class TriangleCache {
+ public:
+  struct Entry {
+    uint32_t id = kNoTriangle;
+    const Material* material = nullptr;
+    const TriangleInterp* interp = nullptr;
+    std::optional<TriangleSurface> surface;
+  };
+  struct Run {
+    uint32_t id;
+    int x, span;  // pixels x .. x + span - 1 of a row
+  };
+  TriangleCache(const SurfaceLookup& lookup, const TiledRasterizer& raster) : lookup_(lookup), raster_(raster) {}
+  // Starts the memory loads that setting up the runs' uncached triangles
+  // will wait on, all at once, so that their cache misses overlap (tiny
+  // triangles: a new one every pixel or two) instead of coming one by one.
+  void prefetch(const Run* runs, int count) const {
+    for (int r = 0; r < count; ++r)
+      if (!cached(runs[r].id)) lookup_.prefetch_plane(raster_, runs[r].id);
+    for (int r = 0; r < count; ++r)
+      if (!cached(runs[r].id)) lookup_.prefetch_indices(raster_.ref(runs[r].id));
+    for (int r = 0; r < count; ++r)
+      if (!cached(runs[r].id)) lookup_.prefetch_vertices(raster_.ref(runs[r].id));
+  }
+  const Entry& get(uint32_t id) {
+    Entry& e = entries_[id % kSize];
+    if (!cached(id)) {
+      e.surface.emplace(lookup_.triangle(raster_, id, e.material));
+      e.interp = &raster_.interp(id);
+      e.id = id;
+    }
+    return e;
+  }
+
+ private:
+  static constexpr uint32_t kSize = 128;
+  bool cached(uint32_t id) const { return entries_[id % kSize].id == id; }
+  const SurfaceLookup& lookup_;
+  const TiledRasterizer& raster_;
+  Entry entries_[kSize];
+};
+
 }  // namespace
 
 void add_shade_pass(FrameGraph& graph, const FrameContext& ctx, const SurfaceLookup& surfaces_of,
-                    const EngineResources& engine, EngineTargets& targets, uint64_t& pixels_shaded) {
+                    const EngineResources& engine, EngineTargets& targets, bool fill_background,
+                    uint64_t& pixels_shaded) {
   struct Data {
     FrameGraphId<Visibility> visibility;
     FrameGraphId<ShadowMap> shadow;
@@ -49,7 +106,7 @@ void add_shade_pass(FrameGraph& graph, const FrameContext& ctx, const SurfaceLoo
     d.shadow = b.read(engine.shadow);
     d.light = b.read(engine.light);
     d.color = targets.color = b.write(targets.color);
-  }, [ctx, &surfaces_of, &pixels_shaded](const FrameGraph::Resources& r, const Data& d) {
+  }, [ctx, &surfaces_of, fill_background, &pixels_shaded](const FrameGraph::Resources& r, const Data& d) {
     const Visibility& vis = r.get(d.visibility);
     FrameBuffers& buffers = r.get_mutable(d.color);
     JobSystem& jobs = r.jobs();
@@ -59,9 +116,11 @@ void add_shade_pass(FrameGraph& graph, const FrameContext& ctx, const SurfaceLoo
     const std::vector<uint32_t>& ids = ctx.profile.msaa_samples == 1 ? vis.raster.visibility().triangle : vis.pixel_ids;
     // Without a sky plugin the background is the ambient radiance: a flat sky.
     const glm::vec3 background = ctx.description.ambient;
+    // Jobs are bands of rows, walked in blocks a few pixels wide: a block's
+    // rows mostly cross the same triangles, which the cache then sets up once.
+    constexpr int kBandRows = 8, kBlockWidth = 64;
     std::vector<uint64_t> shaded_rows(size_t(h), 0);
-    jobs.parallel_for("shade", size_t(h), 4, [&](size_t y0, size_t y1) {
-      // Pixels of a row are shaded in batches of runs of pixels on one triangle.
+    jobs.parallel_for("shade", size_t(h), kBandRows, [&](size_t y0, size_t y1) {
       ShadeQueue q;
       SurfaceBatch& surfaces = q.surfaces;
       const Material** materials = q.materials;
@@ -70,39 +129,49 @@ void add_shade_pass(FrameGraph& graph, const FrameContext& ctx, const SurfaceLoo
         q.flush(ctx.scene, emissive, shader,
                 [&](size_t pixel, const glm::vec3& c) { buffers.color[pixel] = c; });
       };
-      // Neighbouring pixels mostly see the same triangle: set it up once.
-      uint32_t current_id = kNoTriangle;
-      std::optional<TriangleSurface> triangle;
-      const TriangleInterp* interp = nullptr;
-      const Material* material = nullptr;
-      for (size_t y = y0; y < y1; ++y) {
-        uint64_t n = 0;
-        for (int x = 0; x < w;) {
-          const size_t i = y * size_t(w) + size_t(x);
-          if (ids[i] == kNoTriangle || is_edge_pixel(ids[i])) {  // edge pixels: their fragments, below
-            buffers.color[i] = background;
-            ++x;
-            continue;
+      TriangleCache cache(surfaces_of, vis.raster);
+      for (int bx = 0; bx < w; bx += kBlockWidth) {
+        const int bx1 = std::min(w, bx + kBlockWidth);
+        for (size_t y = y0; y < y1; ++y) {
+          const uint32_t* row = &ids[y * size_t(w)];
+          glm::vec3* color = &buffers.color[y * size_t(w)];
+          // The segment's runs of pixels on one triangle; nothing drawn and
+          // edge pixels (their fragments, below) both have the top bit set
+          // and take the background, in runs.
+          TriangleCache::Run runs[kBlockWidth];
+          int run_count = 0;
+          for (int x = bx; x < bx1;) {
+            const uint32_t id = row[x];
+            int end = x + 1;
+            if (int32_t(id) < 0) {
+              while (end < bx1 && int32_t(row[end]) < 0) ++end;
+              if (fill_background) fill_pixels(color + x, end - x, background);
+            } else {
+              while (end < bx1 && row[end] == id) ++end;
+              runs[run_count++] = {id, x, end - x};
+            }
+            x = end;
           }
-          if (ids[i] != current_id) {
-            triangle.emplace(surfaces_of.triangle(vis.raster, ids[i], material));
-            interp = &vis.raster.interp(ids[i]);
-            current_id = ids[i];
+          cache.prefetch(runs, run_count);
+          uint64_t n = 0;
+          for (int r = 0; r < run_count; ++r) {
+            const TriangleCache::Entry& t = cache.get(runs[r].id);
+            for (int x = runs[r].x, left = runs[r].span; left > 0;) {
+              const int span = std::min(left, SurfaceBatch::kCapacity - surfaces.count);
+              const size_t i = y * size_t(w) + size_t(x);
+              for (int k = 0; k < span; ++k) {
+                where[surfaces.count + k] = i + size_t(k);
+                materials[surfaces.count + k] = t.material;
+              }
+              t.surface->add_span(surfaces, *t.interp, x, span, int(y));
+              if (surfaces.full()) flush();
+              x += span;
+              left -= span;
+            }
+            n += uint64_t(runs[r].span);
           }
-          // The run of pixels on this triangle, as far as the batch has room.
-          const int room = SurfaceBatch::kCapacity - surfaces.count;
-          int span = 1;
-          while (span < room && x + span < w && ids[i + size_t(span)] == current_id) ++span;
-          for (int k = 0; k < span; ++k) {
-            where[surfaces.count + k] = i + size_t(k);
-            materials[surfaces.count + k] = material;
-          }
-          triangle->add_span(surfaces, *interp, x, span, int(y));
-          if (surfaces.full()) flush();
-          x += span;
-          n += uint64_t(span);
+          shaded_rows[y] += n;
         }
-        shaded_rows[y] = n;
       }
       if (surfaces.count > 0) flush();
     });

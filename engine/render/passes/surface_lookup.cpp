@@ -21,6 +21,29 @@ TriangleSurface SurfaceLookup::triangle(const TiledRasterizer& raster, uint32_t 
                          any_uv1_ && needs_uv1(*material));
 }
 
+void SurfaceLookup::prefetch_plane(const TiledRasterizer& raster, uint32_t id) const {
+  const char* p = reinterpret_cast<const char*>(&raster.interp(id));
+  __builtin_prefetch(p);
+  __builtin_prefetch(p + sizeof(TriangleInterp) - 1);  // it may straddle two lines
+}
+
+void SurfaceLookup::prefetch_indices(const TriangleRef& ref) const {
+  const Primitive& prim = scene_.primitive(scene_.draws[ref.draw_index]);
+  const uint32_t* idx = prim.indices.data() + size_t(ref.triangle_index) * 3;
+  __builtin_prefetch(idx);
+  __builtin_prefetch(idx + 2);
+}
+
+void SurfaceLookup::prefetch_vertices(const TriangleRef& ref) const {
+  const Primitive& prim = scene_.primitive(scene_.draws[ref.draw_index]);
+  const uint32_t* idx = prim.indices.data() + size_t(ref.triangle_index) * 3;
+  for (int k = 0; k < 3; ++k) {
+    __builtin_prefetch(&prim.positions[idx[k]]);
+    if (!prim.normals.empty()) __builtin_prefetch(&prim.normals[idx[k]]);
+    if (!prim.texcoords.empty()) __builtin_prefetch(&prim.texcoords[idx[k]]);
+  }
+}
+
 SurfaceShader frame_shader(const FrameContext& ctx, const LightEnvironment& light, const ShadowMap& shadow) {
   const Camera& cam = ctx.view.camera;
   // An orthographic view's rays are parallel: shading takes its view vectors

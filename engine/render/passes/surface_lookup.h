@@ -15,6 +15,12 @@ class SurfaceLookup {
   explicit SurfaceLookup(const Scene& scene);
   // The triangle `id` names, in world space, and its material.
   TriangleSurface triangle(const TiledRasterizer& raster, uint32_t id, const Material*& material) const;
+  // Hints that triangle() will read these soon, in the order it needs them:
+  // the rasterizer's plane of `id`, then (once that is in) the triangle's
+  // vertex indices, then (once those are in) its vertices' attributes.
+  void prefetch_plane(const TiledRasterizer& raster, uint32_t id) const;
+  void prefetch_indices(const TriangleRef& ref) const;
+  void prefetch_vertices(const TriangleRef& ref) const;
 
  private:
   const Scene& scene_;
