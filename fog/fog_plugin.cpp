@@ -49,18 +49,18 @@ void FogPlugin::add_passes(FrameGraph& graph, const FrameContext& ctx, EngineRes
   FrameGraphId<FroxelFog> density = graph.create("fog.density", fog);
   FrameGraphId<FroxelFog> sun = graph.create("fog.lighting", fog);  // the sun visibility integration reads
   struct DensityData {
-    FrameGraphId<FrameBuffers> depth;
+    FrameGraphId<FrameBuffers> distance;
     FrameGraphId<FroxelFog> density;
   };
   graph.add_pass<DensityData>(
       "fog.density",
       [&](Builder& b, DensityData& d) {
-        d.depth = b.read(engine.depth);
+        d.distance = b.read(engine.distance);
         d.density = density = b.write(density);
       },
       [view = ctx.view](const Resources& r, const DensityData& d) {
         FroxelFog& f = r.get_mutable(d.density);
-        f.begin_frame(view, r.jobs(), &r.get(d.depth).distance);
+        f.begin_frame(view, r.jobs(), &r.get(d.distance).distance);
         f.density();
       });
   struct LightingData {

@@ -43,6 +43,7 @@ int render_command(const std::vector<std::string>& args, const PluginRegistry& r
   // report.json says "running" until the trace, the last file, is written (run_status.h).
   report_run(out + "/report.json", report, [&] {
     Renderer renderer(*setup.scene, setup.description, setup.profile, registry.create_all(), jobs);
+    renderer.keep_view_distances(exr);  // an EXR frame's depth channel
     attach_playback(renderer, setup);
     for (int f = first; f < first + setup.frames; ++f) {
       const FrameRecord& rec = renderer.render_frame(f);

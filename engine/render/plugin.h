@@ -55,9 +55,13 @@ struct EngineResources {
   // projection moved), else size 0; both written by the "shadow" pass.
   FrameGraphId<ShadowMap> shadow;
   FrameGraphId<ShadowMap> previous_shadow;
-  // FrameBuffers::depth, ::distance and the edge fragments' positions and
-  // distances, written by the "geometry" pass.
+  // FrameBuffers::depth and the edge fragments' positions and distances,
+  // written by the "geometry" pass.
   FrameGraphId<FrameBuffers> depth;
+  // FrameBuffers::distance (metres along each pixel's view ray), written from
+  // depth by the "view distance" pass, which a frame whose passes do not read
+  // it culls.
+  FrameGraphId<FrameBuffers> distance;
 };
 
 class Plugin {

@@ -78,6 +78,7 @@ const FrameRecord& Renderer::render_frame(int frame) {
   engine.shadow = graph.import("shadow_map", shadow_);
   engine.previous_shadow = graph.import("previous_shadow_map", previous_shadow_);
   engine.depth = graph.create("depth", buffers_);
+  engine.distance = graph.create("distance", buffers_);
   EngineTargets targets;
   targets.visibility = graph.create("visibility", *visibility_);
   targets.color = graph.create("hdr_color", buffers_);
@@ -86,6 +87,7 @@ const FrameRecord& Renderer::render_frame(int frame) {
   add_light_pass(graph, ctx, engine);
   if (shadows) add_shadow_pass(graph, ctx, bool(pose_), *shadow_state_, engine);
   add_geometry_pass(graph, ctx, engine, targets);
+  add_view_distance_pass(graph, ctx, engine);
   // The light-environment provider declares its passes first: every other
   // plugin's passes and the shade pass read the light it writes.
   if (light_provider_) light_provider_->add_passes(graph, ctx, engine);
@@ -106,6 +108,7 @@ const FrameRecord& Renderer::render_frame(int frame) {
   if (!compositors.empty()) add_composite_pass(graph, compositors, engine, targets);
   add_resolve_pass(graph, ctx, display_, targets);
   graph.mark_output(targets.display);
+  if (keep_view_distances_) graph.mark_output(engine.distance);
 
   graph.compile();
   jobs_.take_records();

@@ -49,6 +49,9 @@ class Renderer {
   // nothing drawn from it is reused across frames (the shadow map).
   void play_animation(std::function<void(int frame)> pose) { pose_ = std::move(pose); }
 
+  // buffers().distance is computed only for frames whose passes read it (sky,
+  // fog) unless kept; otherwise it holds +inf.
+  void keep_view_distances(bool keep) { keep_view_distances_ = keep; }
   const FrameBuffers& buffers() const { return buffers_; }
   // The draw (index into Scene::draws) the last frame's pixels see at their
   // first sample; -1 where nothing was drawn (for tools that find edges).
@@ -73,6 +76,7 @@ class Renderer {
   std::unique_ptr<Visibility> visibility_;         // the geometry pass's rasterizer and draws
   std::unique_ptr<ShadowPassState> shadow_state_;  // the shadow pass's rasterizer and casters
   std::unique_ptr<SurfaceLookup> surfaces_;        // the shading passes' triangle lookup (materials fixed)
+  bool keep_view_distances_ = false;               // computed even when no pass reads them
   bool has_blended_draws_ = false;                 // the scene has alpha-BLEND draws: a transparent pass
   std::unique_ptr<DisplayTransform> display_;  // built once per exposure
   FrameRecord record_;

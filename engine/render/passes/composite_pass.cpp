@@ -14,6 +14,7 @@ void add_composite_pass(FrameGraph& graph, const std::vector<Plugin*>& composito
   };
   graph.add_pass<Data>("composite", [&](FrameGraph::Builder& b, Data& d) {
     b.read(engine.depth);
+    b.read(engine.distance);
     b.read(targets.color);
     for (Plugin* p : compositors)
       for (const FrameGraphHandle& h : p->composite_reads()) b.read(h);

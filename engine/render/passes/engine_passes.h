@@ -59,9 +59,11 @@ void add_light_pass(FrameGraph& graph, const FrameContext& ctx, EngineResources&
 void add_shadow_pass(FrameGraph& graph, const FrameContext& ctx, bool scene_moves, ShadowPassState& state,
                      EngineResources& engine);
 // "geometry": frustum culling, back-to-front order of blended draws, the
-// visibility buffer, depth and view distances.
+// visibility buffer and depth.
 void add_geometry_pass(FrameGraph& graph, const FrameContext& ctx, EngineResources& engine,
                        EngineTargets& targets);
+// "view distance": FrameBuffers::distance from depth.
+void add_view_distance_pass(FrameGraph& graph, const FrameContext& ctx, EngineResources& engine);
 // "shade": every pixel (and edge fragment) once from its triangle id;
 // pixels where nothing was drawn get the flat background when
 // `fill_background` (no plugin composites them); `pixels_shaded` receives

@@ -1,10 +1,9 @@
 // "geometry": the draws in view (frustum culling; blended draws sorted back to
-// front), rasterized into the visibility buffer; depth and view distances.
+// front), rasterized into the visibility buffer and depth.
 #include "engine/raster/blend_order.h"
 #include "engine/render/passes/draw_culling.h"
 #include "engine/render/passes/draw_materials.h"
 #include "engine/render/passes/engine_passes.h"
-#include "engine/render/view_distance.h"
 
 namespace cr {
 
@@ -62,7 +61,6 @@ void add_geometry_pass(FrameGraph& graph, const FrameContext& ctx, EngineResourc
     } else {
       classify_samples(vis.raster, cam, jobs, vis.pixel_ids, buffers.depth, buffers.fragments, vis.fragment_rows);
     }
-    view_distances(cam, buffers.width, buffers.height, buffers.depth, buffers.distance, jobs);
   });
 }
 
