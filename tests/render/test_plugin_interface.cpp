@@ -2,11 +2,14 @@
 // passes, culling of unread work, light environment override, composite.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <atomic>
+#include <cmath>
 
 #include "engine/core/error.h"
 #include "engine/render/frame_graph.h"
 #include "engine/render/renderer.h"
+#include "engine/render/view_distance.h"
 #include "engine/scene/gltf_loader.h"
 
 namespace {
@@ -127,4 +130,76 @@ TEST_CASE("only the plugin that provides the light environment may write it, and
   plugins.push_back(std::make_unique<TintPlugin>(true));
   CHECK_THROWS_WITH_AS(cr::Renderer(f.scene, f.description, f.profile, std::move(plugins), jobs),
                        doctest::Contains("both provide the light environment"), cr::InputError);
+}
+
+namespace {
+
+// Claims the pixels where nothing was drawn: paints them on frame 0 only, so
+// a later frame shows whether anything else wrote them.
+class BackgroundPlugin : public cr::Plugin {
+ public:
+  std::string name() const override { return "background"; }
+  bool configure(const cr::Scene&, const cr::SceneDescription&, const cr::Profile&) override { return true; }
+  void add_passes(cr::FrameGraph&, const cr::FrameContext& ctx, cr::EngineResources&) override {
+    frame_ = ctx.view.frame;
+  }
+  bool has_composite() const override { return true; }
+  bool composites_background() const override { return true; }
+  void composite(cr::FrameBuffers& buffers, int x0, int y0, int x1, int y1) override {
+    if (frame_ != 0) return;
+    for (int y = y0; y < y1; ++y)
+      for (int x = x0; x < x1; ++x)
+        if (buffers.depth[buffers.index(x, y)] == 0.0f) buffers.color[buffers.index(x, y)] = glm::vec3(4.0f, 5.0f, 6.0f);
+  }
+
+ private:
+  int frame_ = 0;
+};
+
+bool culled(const cr::FrameRecord& rec, const std::string& pass) {
+  return std::find(rec.culled.begin(), rec.culled.end(), pass) != rec.culled.end();
+}
+
+}  // namespace
+
+TEST_CASE("the shade pass leaves pixels where nothing was drawn to a plugin that composites them") {
+  Fixture f;
+  cr::JobSystem jobs(2);
+  std::vector<std::unique_ptr<cr::Plugin>> plugins;
+  plugins.push_back(std::make_unique<BackgroundPlugin>());
+  cr::Renderer r(f.scene, f.description, f.profile, std::move(plugins), jobs);
+  r.render_frame(0);
+  r.render_frame(1);  // the plugin paints nothing now: frame 0's colour must remain
+  const cr::FrameBuffers& b = r.buffers();
+  CHECK(b.depth[0] == 0.0f);
+  CHECK(b.color[0] == glm::vec3(4.0f, 5.0f, 6.0f));
+  // Without such a plugin they take the flat background (the ambient radiance).
+  cr::Renderer plain(f.scene, f.description, f.profile, {}, jobs);
+  plain.render_frame(0);
+  CHECK(plain.buffers().color[0] == f.description.ambient);
+}
+
+TEST_CASE("view distances are computed for the frames that read them, or when kept") {
+  Fixture f;
+  cr::JobSystem jobs(2);
+  cr::Renderer plain(f.scene, f.description, f.profile, {}, jobs);
+  CHECK(culled(plain.render_frame(0), "view distance"));
+  const cr::FrameBuffers& b = plain.buffers();
+  CHECK(std::all_of(b.distance.begin(), b.distance.end(), [](float d) { return std::isinf(d); }));
+
+  plain.keep_view_distances(true);
+  CHECK_FALSE(culled(plain.render_frame(1), "view distance"));
+  const size_t centre = b.index(b.width / 2, b.height / 2);
+  REQUIRE(b.depth[centre] > 0.0f);  // the box
+  const cr::Camera cam = plain.frame_view(1).camera;
+  CHECK(b.distance[centre] ==
+        cr::view_distance(cam, b.width, b.height, float(b.width / 2) + 0.5f, float(b.height / 2) + 0.5f,
+                          b.depth[centre]));
+
+  // A composite reads them: computed without being kept.
+  std::vector<std::unique_ptr<cr::Plugin>> plugins;
+  plugins.push_back(std::make_unique<TintPlugin>(true));
+  cr::Renderer tinted(f.scene, f.description, f.profile, std::move(plugins), jobs);
+  CHECK_FALSE(culled(tinted.render_frame(0), "view distance"));
+  CHECK(std::isfinite(tinted.buffers().distance[centre]));
 }
