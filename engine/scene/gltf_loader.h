@@ -32,8 +32,8 @@ struct GltfLoadOptions {
   // Let URIs name files outside the model's folder and its subfolders
   // (refused by default: a model file must not read arbitrary files).
   bool allow_outside_paths = false;
-  // Bytes of linear-float texture copies (image_texels.h) the loader may add:
-  // images in file order are decoded while they fit, the rest stay RGBA8.
+  // Bytes the decoded images may take, RGBA8 with their mip chains (the
+  // profile's texture_decode_budget_mb).
   size_t texture_decode_budget = size_t(512) << 20;
   // When set, what the load holds is charged to it: the parsed JSON (checked
   // while parsing), buffers and decoded images before they are allocated,

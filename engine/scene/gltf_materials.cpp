@@ -6,7 +6,6 @@
 #include <set>
 
 #include "engine/scene/image_mips.h"
-#include "engine/scene/image_texels.h"
 
 namespace cr {
 
@@ -271,24 +270,15 @@ GltfMaterials load_materials(const GltfContext& ctx, const ImageDecodeLog& decod
   }
 
   // What each image will take, from its header's size (capture_gltf_image
-  // bounds it), charged before any is decoded: RGBA8 with its mips, and the
-  // linear floats (image_texels.h) of those texture_decode_budget lets
-  // through, in file order.
-  std::vector<bool> linear;
-  size_t decoded = 0;
+  // bounds it), charged before any is decoded: RGBA8 with its mips.
   for (const std::pair<int, bool>& used : textures.sources()) {
     const int source = used.first;
     const tinygltf::Image& img = m.images[source];
     const size_t texels = mip_chain_texels(static_cast<size_t>(img.width), static_cast<size_t>(img.height));
-    const size_t float_bytes = texels * sizeof(glm::vec4);
-    linear.push_back(float_bytes <= options.texture_decode_budget - decoded);
-    if (linear.back()) decoded += float_bytes;
     if (options.memory) {
       options.memory->charge(gltf_label("image", source, img.name) + " (" + std::to_string(img.width) + "x" +
-                                 std::to_string(img.height) + " RGBA8" + (linear.back() ? " and linear floats" : "") +
-                                 " with mips)",
-                             ctx.path, "images[" + std::to_string(source) + "]",
-                             texels * 4 + (linear.back() ? float_bytes : 0));
+                                 std::to_string(img.height) + " RGBA8 with mips)",
+                             ctx.path, "images[" + std::to_string(source) + "]", texels * 4);
     }
   }
   for (size_t i = 0; i < textures.sources().size(); ++i) {
@@ -305,7 +295,6 @@ GltfMaterials load_materials(const GltfContext& ctx, const ImageDecodeLog& decod
     }
     image.mips.push_back(std::move(base));
     generate_mips(image);
-    if (linear[i]) decode_texels(image);
     out.images.push_back(std::move(image));
   }
   return out;

@@ -27,16 +27,12 @@ struct Sampler {
   std::optional<Filter> mip;           // nullopt: no mipmapping (base level only)
 };
 
-// One mip level of an RGBA8 image.
+// One mip level of an RGBA8 image: texels as stored in the file (8-bit sRGB
+// or linear channels, alpha linear), decoded when sampled (engine/shading/texel_decode.h).
 struct MipLevel {
   int width = 0;
   int height = 0;
   std::vector<uint8_t> rgba;  // width*height*4
-  // rgba decoded to linear RGBA (decode_texels, image_texels.h): what texture
-  // sampling reads. 16 bytes a texel besides rgba's 4, bought so that a
-  // filtered lookup loads its 4-8 texels instead of decoding 16-32 channels
-  // by table every time.
-  std::vector<glm::vec4> texels;
 };
 
 // A decoded image with its full mip chain (generated at load, box filter in

@@ -8,7 +8,7 @@ namespace {
 cr::Image make_image(int w, int h, bool srgb, uint8_t value = 0) {
   cr::Image img;
   img.srgb = srgb;
-  img.mips.push_back({w, h, std::vector<uint8_t>(static_cast<size_t>(w) * h * 4, value), {}});
+  img.mips.push_back({w, h, std::vector<uint8_t>(static_cast<size_t>(w) * h * 4, value)});
   return img;
 }
 
