@@ -41,7 +41,10 @@ struct MipLevel {
 struct Image {
   std::string name;
   bool srgb = false;
-  std::vector<MipLevel> mips;  // mips[0] is full resolution, down to 1x1
+  // mips[0] is the largest level kept (the file's size unless the texture
+  // budget dropped top levels: GltfLoadOptions::texture_decode_budget), each
+  // next level half the last (rounded down, at least 1), down to 1x1.
+  std::vector<MipLevel> mips;
 };
 
 // KHR_texture_transform of one texture reference: uv' = T * R * S * uv with
