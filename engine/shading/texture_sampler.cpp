@@ -96,7 +96,9 @@ inline float reduce_coordinate(float u, Wrap wrap) {
 #pragma GCC diagnostic ignored "-Wpsabi"
 typedef float TexelPair __attribute__((vector_size(32)));
 
-inline TexelPair texel_pair(const Texel& a, const Texel& b) { return __builtin_shufflevector(a, b, 0, 1, 2, 3, 4, 5, 6, 7); }
+[[gnu::always_inline]] inline TexelPair texel_pair(const Texel& a, const Texel& b) {
+  return __builtin_shufflevector(a, b, 0, 1, 2, 3, 4, 5, 6, 7);
+}
 
 inline glm::vec4 to_vec4(const Texel& t) {
   glm::vec4 v;
@@ -105,8 +107,10 @@ inline glm::vec4 to_vec4(const Texel& t) {
 }
 
 // glm::mix's arithmetic, lane by lane: x * (1 - t) + y * t.
-inline Texel blend(const Texel& x, const Texel& y, float t) { return x * (1.0f - t) + y * t; }
-inline TexelPair blend(const TexelPair& x, const TexelPair& y, float t) { return x * (1.0f - t) + y * t; }
+[[gnu::always_inline]] inline Texel blend(const Texel& x, const Texel& y, float t) { return x * (1.0f - t) + y * t; }
+[[gnu::always_inline]] inline TexelPair blend(const TexelPair& x, const TexelPair& y, float t) {
+  return x * (1.0f - t) + y * t;
+}
 
 // The bilinear blend of the four texels (x0,y0) (x1,y0) (x0,y1) (x1,y1) of
 // a level, read by `texel` (index -> linear RGBA, or a pair of them): every
@@ -220,8 +224,8 @@ template <class TexelAt, class Store>
   for (int i = 0; i < n; ++i) {
     auto level = [&](int s) __attribute__((always_inline)) {
       const int l = f.level[s][i];
-      return bilinear([&](uint32_t j) { return texel(l, j); }, f.texel[s][0][i], f.texel[s][1][i], f.texel[s][2][i],
-                      f.texel[s][3][i], f.ax[s][i], f.ay[s][i]);
+      return bilinear([&](uint32_t j) __attribute__((always_inline)) { return texel(l, j); }, f.texel[s][0][i],
+                      f.texel[s][1][i], f.texel[s][2][i], f.texel[s][3][i], f.ax[s][i], f.ay[s][i]);
     };
     const auto a = level(0);
     if (f.t[i] == 0.0f) {
@@ -258,8 +262,10 @@ void sample_trilinear_pair(const Image& a, const Image& b, const TrilinearFootpr
   with_decoder(a, [&](const auto& decode_a) {
     with_decoder(b, [&](const auto& decode_b) {
       filter_trilinear(
-          [&](int l, uint32_t i) { return texel_pair(decode_a(texels_a.at(l, i)), decode_b(texels_b.at(l, i))); }, f,
-          n, [&](int i, const TexelPair& value) {
+          [&](int l, uint32_t i) __attribute__((always_inline)) {
+            return texel_pair(decode_a(texels_a.at(l, i)), decode_b(texels_b.at(l, i)));
+          },
+          f, n, [&](int i, const TexelPair& value) __attribute__((always_inline)) {
             std::memcpy(&out_a[i], &value, sizeof(glm::vec4));
             std::memcpy(&out_b[i], reinterpret_cast<const char*>(&value) + sizeof(glm::vec4), sizeof(glm::vec4));
           });
