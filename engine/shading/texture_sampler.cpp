@@ -6,6 +6,7 @@
 #include <cstring>
 #include <limits>
 #include <optional>
+#include <type_traits>
 
 #include "engine/shading/small_floor.h"
 #include "engine/shading/texel_decode.h"
@@ -96,8 +97,16 @@ inline float reduce_coordinate(float u, Wrap wrap) {
 #pragma GCC diagnostic ignored "-Wpsabi"
 typedef float TexelPair __attribute__((vector_size(32)));
 
-[[gnu::always_inline]] inline TexelPair texel_pair(const Texel& a, const Texel& b) {
-  return __builtin_shufflevector(a, b, 0, 1, 2, 3, 4, 5, 6, 7);
+// The texels of two images at one index side by side: two linear images'
+// decoded at once where AVX2 is there (LinearTexels::pair), others one by one.
+template <class DecodeA, class DecodeB>
+[[gnu::always_inline]] inline TexelPair decode_pair(const DecodeA& decode_a, const DecodeB& decode_b, const uint8_t* a,
+                                                    const uint8_t* b) {
+#if defined(__AVX2__)
+  if constexpr (std::is_same_v<DecodeA, LinearTexels> && std::is_same_v<DecodeB, LinearTexels>)
+    return LinearTexels::pair(a, b);
+#endif
+  return __builtin_shufflevector(decode_a(a), decode_b(b), 0, 1, 2, 3, 4, 5, 6, 7);
 }
 
 inline glm::vec4 to_vec4(const Texel& t) {
@@ -263,7 +272,7 @@ void sample_trilinear_pair(const Image& a, const Image& b, const TrilinearFootpr
     with_decoder(b, [&](const auto& decode_b) {
       filter_trilinear(
           [&](int l, uint32_t i) __attribute__((always_inline)) {
-            return texel_pair(decode_a(texels_a.at(l, i)), decode_b(texels_b.at(l, i)));
+            return decode_pair(decode_a, decode_b, texels_a.at(l, i), texels_b.at(l, i));
           },
           f, n, [&](int i, const TexelPair& value) __attribute__((always_inline)) {
             std::memcpy(&out_a[i], &value, sizeof(glm::vec4));

@@ -300,6 +300,18 @@ TEST_CASE("texels decode through the tables: sRGB colour, linear alpha and UNORM
     }
   }
   for (int code = 0; code < 256; ++code) CHECK(unorm_decode_table()[size_t(code)] == float(code) / 255.0f);
+#if defined(__AVX2__)
+  // Two linear texels decoded side by side: the same floats as one by one.
+  for (int code = 0; code < 256; ++code) {
+    const uint8_t a[4] = {uint8_t(code), uint8_t(255 - code), uint8_t(code * 7), uint8_t(code * 13)};
+    const uint8_t b[4] = {uint8_t(code * 3), uint8_t(code + 1), uint8_t(code * 11), uint8_t(code * 5)};
+    const LinearTexels::Pair pair = LinearTexels::pair(a, b);
+    for (int c = 0; c < 4; ++c) {
+      CHECK(pair[c] == unorm_decode_table()[a[c]]);
+      CHECK(pair[4 + c] == unorm_decode_table()[b[c]]);
+    }
+  }
+#endif
 }
 
 TEST_CASE("sample_textures over many points equals the lookups point by point, bit for bit") {
