@@ -22,9 +22,9 @@ struct Profile {
   float shadow_distance = 300.0f; // metres from the camera covered by the shadow map
   int shadow_pcf_radius = 1;      // PCF kernel (2r+1)^2 taps
   float frame_budget_ms = 33.3f;
-  // Linear-float copies of textures (16 bytes a texel, faster to sample)
-  // for images while their total stays within this; the rest are sampled
-  // from RGBA8 through decode tables, with the same results.
+  // Memory for the decoded textures: each image's RGBA8 mip chain. Where the
+  // chains exceed it, the largest drop their top levels until they fit
+  // (GltfLoadOptions::texture_decode_budget), with a warning naming each.
   int texture_decode_budget_mb = 512;
   // Anti-aliasing ("antialiasing": "none" | "msaa2" | "msaa4" | "msaa8"):
   // coverage and depth samples per pixel of the visibility buffer (1 = none).

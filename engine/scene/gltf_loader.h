@@ -32,8 +32,11 @@ struct GltfLoadOptions {
   // Let URIs name files outside the model's folder and its subfolders
   // (refused by default: a model file must not read arbitrary files).
   bool allow_outside_paths = false;
-  // Bytes of linear-float texture copies (image_texels.h) the loader may add:
-  // images in file order are decoded while they fit, the rest stay RGBA8.
+  // Bytes the decoded images may take, RGBA8 with their mip chains (the
+  // profile's texture_decode_budget_mb). When the chains exceed it, the
+  // largest chain drops its top level, again until all fit (or are 1x1),
+  // like a GPU texture pool's mip bias; a warning names each image dropped
+  // and the size it loads at.
   size_t texture_decode_budget = size_t(512) << 20;
   // When set, what the load holds is charged to it: the parsed JSON (checked
   // while parsing), buffers and decoded images before they are allocated,

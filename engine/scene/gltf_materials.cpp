@@ -6,7 +6,6 @@
 #include <set>
 
 #include "engine/scene/image_mips.h"
-#include "engine/scene/image_texels.h"
 
 namespace cr {
 
@@ -227,6 +226,38 @@ size_t mip_chain_texels(size_t width, size_t height) {
   return texels;
 }
 
+// Size of level `level` of a chain with the given base size.
+size_t level_size(size_t base, int level) { return std::max<size_t>(1, base >> level); }
+
+// An image's place under the texture budget: its file size and the top
+// levels of its chain it drops.
+struct BudgetedImage {
+  size_t width, height;
+  int drop = 0;
+  size_t width_kept() const { return level_size(width, drop); }
+  size_t height_kept() const { return level_size(height, drop); }
+  size_t bytes() const { return 4 * mip_chain_texels(width_kept(), height_kept()); }
+  bool droppable() const { return width_kept() > 1 || height_kept() > 1; }
+};
+
+// Drops top levels until the chains fit `budget`: each step takes the
+// largest chain (the earlier image on ties) one level down, so the largest
+// images shrink first and images of one size end up within a level of each
+// other, as a GPU texture pool's mip bias does. Stops at 1x1 levels.
+void fit_texture_budget(std::vector<BudgetedImage>& images, size_t budget) {
+  size_t total = 0;
+  for (const BudgetedImage& b : images) total += b.bytes();
+  while (total > budget) {
+    BudgetedImage* largest = nullptr;
+    for (BudgetedImage& b : images)
+      if (b.droppable() && (!largest || b.bytes() > largest->bytes())) largest = &b;
+    if (!largest) return;
+    total -= largest->bytes();
+    ++largest->drop;
+    total += largest->bytes();
+  }
+}
+
 std::string join(const std::set<std::string>& items, const std::string& sep) {
   std::string out;
   for (const std::string& s : items) out += (out.empty() ? "" : sep) + s;
@@ -271,25 +302,47 @@ GltfMaterials load_materials(const GltfContext& ctx, const ImageDecodeLog& decod
   }
 
   // What each image will take, from its header's size (capture_gltf_image
-  // bounds it), charged before any is decoded: RGBA8 with its mips, and the
-  // linear floats (image_texels.h) of those texture_decode_budget lets
-  // through, in file order.
-  std::vector<bool> linear;
-  size_t decoded = 0;
+  // bounds it): RGBA8 with its mips, top levels dropped where the images
+  // exceed the texture budget; charged, with the peak of decoding each one
+  // checked, before any is decoded.
+  std::vector<BudgetedImage> budgeted;
   for (const std::pair<int, bool>& used : textures.sources()) {
-    const int source = used.first;
+    const tinygltf::Image& img = m.images[used.first];
+    budgeted.push_back({static_cast<size_t>(img.width), static_cast<size_t>(img.height)});
+  }
+  fit_texture_budget(budgeted, options.texture_decode_budget);
+  std::string dropped;
+  size_t full_bytes = 0, kept_bytes = 0;
+  for (size_t i = 0; i < budgeted.size(); ++i) {
+    const int source = textures.sources()[i].first;
     const tinygltf::Image& img = m.images[source];
-    const size_t texels = mip_chain_texels(static_cast<size_t>(img.width), static_cast<size_t>(img.height));
-    const size_t float_bytes = texels * sizeof(glm::vec4);
-    linear.push_back(float_bytes <= options.texture_decode_budget - decoded);
-    if (linear.back()) decoded += float_bytes;
-    if (options.memory) {
-      options.memory->charge(gltf_label("image", source, img.name) + " (" + std::to_string(img.width) + "x" +
-                                 std::to_string(img.height) + " RGBA8" + (linear.back() ? " and linear floats" : "") +
-                                 " with mips)",
-                             ctx.path, "images[" + std::to_string(source) + "]",
-                             texels * 4 + (linear.back() ? float_bytes : 0));
+    const BudgetedImage& b = budgeted[i];
+    const std::string size = std::to_string(img.width) + "x" + std::to_string(img.height);
+    const std::string kept = std::to_string(b.width_kept()) + "x" + std::to_string(b.height_kept());
+    full_bytes += BudgetedImage{b.width, b.height}.bytes();
+    kept_bytes += b.bytes();
+    if (b.drop > 0) {
+      dropped += std::string(dropped.empty() ? "" : "; ") + gltf_label("image", source, img.name) +
+                 (textures.sources()[i].second ? " (sRGB)" : " (linear)") + " loads at " + kept + " (of " + size +
+                 ")";
     }
+    if (options.memory) {
+      const std::string what = gltf_label("image", source, img.name) + " (" + size +
+                               (b.drop > 0 ? " loaded at " + kept : "") + " RGBA8 with mips)";
+      const std::string field = "images[" + std::to_string(source) + "]";
+      options.memory->charge(what, ctx.path, field, b.bytes());
+      // Decoding holds the file's full level and the next one made from it.
+      if (b.drop > 0) {
+        options.memory->require(what + " while decoding", ctx.path, field,
+                                4 * (b.width * b.height + level_size(b.width, 1) * level_size(b.height, 1)));
+      }
+    }
+  }
+  if (!dropped.empty()) {
+    ctx.warn("the images' mip chains (" + MemoryBudget::format_bytes(full_bytes) +
+             " as RGBA8) exceed the texture budget (texture_decode_budget_mb, " +
+             MemoryBudget::format_bytes(options.texture_decode_budget) + "): " + dropped + "; " +
+             MemoryBudget::format_bytes(kept_bytes) + " kept");
   }
   for (size_t i = 0; i < textures.sources().size(); ++i) {
     const auto& [source, srgb] = textures.sources()[i];
@@ -304,8 +357,7 @@ GltfMaterials load_materials(const GltfContext& ctx, const ImageDecodeLog& decod
                (img.uri.empty() || is_data_uri(img.uri) ? "" : " '" + img.uri + "'") + ": " + error);
     }
     image.mips.push_back(std::move(base));
-    generate_mips(image);
-    if (linear[i]) decode_texels(image);
+    generate_mips(image, budgeted[i].drop);
     out.images.push_back(std::move(image));
   }
   return out;

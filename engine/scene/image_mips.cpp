@@ -67,11 +67,15 @@ MipLevel downsample(const MipLevel& src, bool srgb) {
 
 }  // namespace
 
-void generate_mips(Image& image) {
+void generate_mips(Image& image, int drop) {
   if (image.mips.empty()) throw std::invalid_argument("generate_mips: image '" + image.name + "' has no base level");
   image.mips.resize(1);
   while (image.mips.back().width > 1 || image.mips.back().height > 1) {
     image.mips.push_back(downsample(image.mips.back(), image.srgb));
+    if (drop > 0) {
+      image.mips.erase(image.mips.begin());
+      --drop;
+    }
   }
 }
 

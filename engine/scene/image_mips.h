@@ -10,6 +10,9 @@ namespace cr {
 // texels of the level above it covers. sRGB images are averaged in linear light
 // and re-encoded (averaging encoded values darkens: black/white gives 128, not
 // the correct 188); alpha is always linear.
-void generate_mips(Image& image);
+// With drop > 0 the chain keeps only its levels from `drop` on (mips[0]
+// becomes the chain's level `drop`, at most its 1x1 level): each level above
+// is freed as soon as the next is made, so at most two of them are held.
+void generate_mips(Image& image, int drop = 0);
 
 }  // namespace cr

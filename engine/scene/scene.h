@@ -27,16 +27,12 @@ struct Sampler {
   std::optional<Filter> mip;           // nullopt: no mipmapping (base level only)
 };
 
-// One mip level of an RGBA8 image.
+// One mip level of an RGBA8 image: texels as stored in the file (8-bit sRGB
+// or linear channels, alpha linear), decoded when sampled (engine/shading/texel_decode.h).
 struct MipLevel {
   int width = 0;
   int height = 0;
   std::vector<uint8_t> rgba;  // width*height*4
-  // rgba decoded to linear RGBA (decode_texels, image_texels.h): what texture
-  // sampling reads. 16 bytes a texel besides rgba's 4, bought so that a
-  // filtered lookup loads its 4-8 texels instead of decoding 16-32 channels
-  // by table every time.
-  std::vector<glm::vec4> texels;
 };
 
 // A decoded image with its full mip chain (generated at load, box filter in
@@ -45,7 +41,10 @@ struct MipLevel {
 struct Image {
   std::string name;
   bool srgb = false;
-  std::vector<MipLevel> mips;  // mips[0] is full resolution, down to 1x1
+  // mips[0] is the largest level kept (the file's size unless the texture
+  // budget dropped top levels: GltfLoadOptions::texture_decode_budget), each
+  // next level half the last (rounded down, at least 1), down to 1x1.
+  std::vector<MipLevel> mips;
 };
 
 // KHR_texture_transform of one texture reference: uv' = T * R * S * uv with

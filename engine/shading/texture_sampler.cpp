@@ -6,9 +6,10 @@
 #include <cstring>
 #include <limits>
 #include <optional>
+#include <type_traits>
 
-#include "engine/scene/image_texels.h"
 #include "engine/shading/small_floor.h"
+#include "engine/shading/texel_decode.h"
 #include "engine/shading/trilinear_footprints.h"
 
 namespace cr {
@@ -95,18 +96,30 @@ inline float reduce_coordinate(float u, Wrap wrap) {
 // matter. (GCC reports it at the end of the file, so it stays off to there.)
 #pragma GCC diagnostic ignored "-Wpsabi"
 typedef float TexelPair __attribute__((vector_size(32)));
-typedef float Texel __attribute__((vector_size(16)));
 
-inline TexelPair texel_pair(const glm::vec4& a, const glm::vec4& b) {
-  Texel x, y;
-  std::memcpy(&x, &a, sizeof x);
-  std::memcpy(&y, &b, sizeof y);
-  return __builtin_shufflevector(x, y, 0, 1, 2, 3, 4, 5, 6, 7);
+// The texels of two images at one index side by side: two linear images'
+// decoded at once where AVX2 is there (LinearTexels::pair), others one by one.
+template <class DecodeA, class DecodeB>
+[[gnu::always_inline]] inline TexelPair decode_pair(const DecodeA& decode_a, const DecodeB& decode_b, const uint8_t* a,
+                                                    const uint8_t* b) {
+#if defined(__AVX2__)
+  if constexpr (std::is_same_v<DecodeA, LinearTexels> && std::is_same_v<DecodeB, LinearTexels>)
+    return LinearTexels::pair(a, b);
+#endif
+  return __builtin_shufflevector(decode_a(a), decode_b(b), 0, 1, 2, 3, 4, 5, 6, 7);
 }
 
-// glm::mix, lane by lane the same arithmetic for a pair: x * (1 - t) + y * t.
-inline glm::vec4 blend(const glm::vec4& x, const glm::vec4& y, float t) { return glm::mix(x, y, t); }
-inline TexelPair blend(const TexelPair& x, const TexelPair& y, float t) { return x * (1.0f - t) + y * t; }
+inline glm::vec4 to_vec4(const Texel& t) {
+  glm::vec4 v;
+  std::memcpy(&v, &t, sizeof v);
+  return v;
+}
+
+// glm::mix's arithmetic, lane by lane: x * (1 - t) + y * t.
+[[gnu::always_inline]] inline Texel blend(const Texel& x, const Texel& y, float t) { return x * (1.0f - t) + y * t; }
+[[gnu::always_inline]] inline TexelPair blend(const TexelPair& x, const TexelPair& y, float t) {
+  return x * (1.0f - t) + y * t;
+}
 
 // The bilinear blend of the four texels (x0,y0) (x1,y0) (x0,y1) (x1,y1) of
 // a level, read by `texel` (index -> linear RGBA, or a pair of them): every
@@ -119,20 +132,22 @@ template <class TexelAt>
   return blend(top, bottom, ay);
 }
 
-// Always inlined: a glm::vec4 returned by value is split across two registers
-// through the stack, and the reload stalls on the store.
-// Levels without decoded floats (over the load budget) decode their four
-// texels by table: the same floats, so the same result.
-[[gnu::always_inline]] inline glm::vec4 sample_level_footprint(const Image& image, const TextureFootprint::Level& f) {
-  const MipLevel& m = image.mips[size_t(f.index)];
-  if (!m.texels.empty()) {
-    const glm::vec4* texels = m.texels.data();
-    return bilinear([texels](uint32_t i) { return texels[i]; }, f.texel[0], f.texel[1], f.texel[2], f.texel[3],
-                    f.ax, f.ay);
-  }
-  const TexelDecoder decode(image);
-  return bilinear([&](uint32_t i) { return decode(m, i); }, f.texel[0], f.texel[1], f.texel[2], f.texel[3], f.ax,
-                  f.ay);
+// body(decode) with the decoder of the image's colour space (texel_decode.h),
+// so that the loops inside have no per-texel branch.
+template <class Body>
+[[gnu::always_inline]] inline auto with_decoder(const Image& image, const Body& body) {
+  return image.srgb ? body(SrgbTexels{}) : body(LinearTexels{});
+}
+
+// The level's filtered value over its part of a footprint. Always inlined:
+// a value returned by value was split across two registers through the stack,
+// and the reload stalled on the store.
+template <class Decode>
+[[gnu::always_inline]] inline Texel sample_level_footprint(const Decode& decode, const Image& image,
+                                                           const TextureFootprint::Level& f) {
+  const uint8_t* rgba = image.mips[size_t(f.index)].rgba.data();
+  return bilinear([&](uint32_t i) { return decode(rgba + size_t(i) * 4); }, f.texel[0], f.texel[1], f.texel[2],
+                  f.texel[3], f.ax, f.ay);
 }
 
 // texture_footprint written into `f` (which the caller may re-use): a
@@ -179,9 +194,11 @@ template <class TexelAt>
 // sample_footprint, inlined into the lookups below.
 [[gnu::always_inline]] inline glm::vec4 filter_footprint(const Image& image, const TextureFootprint& f) {
   if (f.levels == 0 || image.mips.empty()) return glm::vec4(1.0f);
-  const glm::vec4 a = sample_level_footprint(image, f.level[0]);
-  if (f.levels == 1) return a;
-  return glm::mix(a, sample_level_footprint(image, f.level[1]), f.t);
+  return with_decoder(image, [&](const auto& decode) {
+    const Texel a = sample_level_footprint(decode, image, f.level[0]);
+    if (f.levels == 1) return to_vec4(a);
+    return to_vec4(blend(a, sample_level_footprint(decode, image, f.level[1]), f.t));
+  });
 }
 
 // texture_lod's rho (before the log2) at every point, for a base level of
@@ -216,8 +233,8 @@ template <class TexelAt, class Store>
   for (int i = 0; i < n; ++i) {
     auto level = [&](int s) __attribute__((always_inline)) {
       const int l = f.level[s][i];
-      return bilinear([&](uint32_t j) { return texel(l, j); }, f.texel[s][0][i], f.texel[s][1][i], f.texel[s][2][i],
-                      f.texel[s][3][i], f.ax[s][i], f.ay[s][i]);
+      return bilinear([&](uint32_t j) __attribute__((always_inline)) { return texel(l, j); }, f.texel[s][0][i],
+                      f.texel[s][1][i], f.texel[s][2][i], f.texel[s][3][i], f.ax[s][i], f.ay[s][i]);
     };
     const auto a = level(0);
     if (f.t[i] == 0.0f) {
@@ -228,39 +245,41 @@ template <class TexelAt, class Store>
   }
 }
 
-// Whether every level of the image has decoded texels; `texels` gets them.
-bool decoded_levels(const Image& image, const glm::vec4** texels) {
-  bool decoded = true;
-  for (size_t l = 0; l < image.mips.size(); ++l) {
-    texels[l] = image.mips[l].texels.data();
-    decoded = decoded && !image.mips[l].texels.empty();
+// The RGBA8 texels of every level of an image with a trilinear chain.
+struct ChainTexels {
+  const uint8_t* level[TrilinearFootprints::kMaxLevels];
+  explicit ChainTexels(const Image& image) {
+    for (size_t l = 0; l < image.mips.size(); ++l) level[l] = image.mips[l].rgba.data();
   }
-  return decoded;
-}
+  const uint8_t* at(int l, uint32_t i) const { return level[l] + size_t(i) * 4; }
+};
 
-// filter_trilinear of one image with levels, through its decoded texels
-// when every level has them, else by table (the same floats).
+// filter_trilinear of one image with levels.
 void sample_trilinear(const Image& image, const TrilinearFootprints& f, int n, glm::vec4* out) {
-  auto store = [out](int i, const glm::vec4& value) { out[i] = value; };
-  const glm::vec4* texels[TrilinearFootprints::kMaxLevels];
-  if (decoded_levels(image, texels)) {
-    filter_trilinear([&](int l, uint32_t i) { return texels[l][i]; }, f, n, store);
-    return;
-  }
-  const TexelDecoder decode(image);
-  filter_trilinear([&](int l, uint32_t i) { return decode(image.mips[size_t(l)], i); }, f, n, store);
+  const ChainTexels texels(image);
+  with_decoder(image, [&](const auto& decode) {
+    filter_trilinear([&](int l, uint32_t i) { return decode(texels.at(l, i)); }, f, n,
+                     [out](int i, const Texel& value) { out[i] = to_vec4(value); });
+  });
 }
 
-// sample_trilinear of two images of one chain size at once, from their
-// decoded texels: the footprint is read once, and one AVX blend does both.
-void sample_trilinear_pair(const glm::vec4* const* texels_a, const glm::vec4* const* texels_b,
-                           const TrilinearFootprints& f, int n, glm::vec4* out_a, glm::vec4* out_b) {
-  filter_trilinear([&](int l, uint32_t i) { return texel_pair(texels_a[l][i], texels_b[l][i]); }, f, n,
-                   [&](int i, const TexelPair& value) {
-                     std::memcpy(&out_a[i], &value, sizeof(glm::vec4));
-                     std::memcpy(&out_b[i], reinterpret_cast<const char*>(&value) + sizeof(glm::vec4),
-                                 sizeof(glm::vec4));
-                   });
+// sample_trilinear of two images of one chain size at once: the footprint is
+// read once, and one AVX blend does both.
+void sample_trilinear_pair(const Image& a, const Image& b, const TrilinearFootprints& f, int n, glm::vec4* out_a,
+                           glm::vec4* out_b) {
+  const ChainTexels texels_a(a), texels_b(b);
+  with_decoder(a, [&](const auto& decode_a) {
+    with_decoder(b, [&](const auto& decode_b) {
+      filter_trilinear(
+          [&](int l, uint32_t i) __attribute__((always_inline)) {
+            return decode_pair(decode_a, decode_b, texels_a.at(l, i), texels_b.at(l, i));
+          },
+          f, n, [&](int i, const TexelPair& value) __attribute__((always_inline)) {
+            std::memcpy(&out_a[i], &value, sizeof(glm::vec4));
+            std::memcpy(&out_b[i], reinterpret_cast<const char*>(&value) + sizeof(glm::vec4), sizeof(glm::vec4));
+          });
+    });
+  });
 }
 
 }  // namespace
@@ -280,8 +299,8 @@ float texture_lod(const Image& image, glm::vec2 duv_dx, glm::vec2 duv_dy) {
 
 glm::vec4 fetch_texel(const Image& image, int level, int x, int y) {
   const MipLevel& m = image.mips[size_t(level)];
-  const size_t i = size_t(y) * size_t(m.width) + size_t(x);
-  return m.texels.empty() ? TexelDecoder(image)(m, i) : m.texels[i];
+  const uint8_t* texel = m.rgba.data() + (size_t(y) * size_t(m.width) + size_t(x)) * 4;
+  return with_decoder(image, [texel](const auto& decode) { return to_vec4(decode(texel)); });
 }
 
 glm::vec4 sample_level(const Image& image, int level, glm::vec2 uv, Filter filter, Wrap wrap_s,
@@ -289,7 +308,7 @@ glm::vec4 sample_level(const Image& image, int level, glm::vec2 uv, Filter filte
   TextureFootprint::Level f;
   level_footprint(f, image.mips[size_t(level)], level, reduce_coordinate(uv.x, wrap_s), reduce_coordinate(uv.y, wrap_t),
                   filter, wrap_s, wrap_t);
-  return sample_level_footprint(image, f);
+  return with_decoder(image, [&](const auto& decode) { return to_vec4(sample_level_footprint(decode, image, f)); });
 }
 
 TextureFootprint texture_footprint(const Image& image, const Sampler& sampler, glm::vec2 uv, float lambda) {
@@ -350,14 +369,12 @@ void sample_textures(const TextureLookup* lookups, int count, const TexturePoint
       }
     }
     if (trilinear) {
-      // The next lookup through the same footprint joins this one when both
-      // have decoded texels (a material's base colour and metallic-roughness).
-      const glm::vec4* texels[TrilinearFootprints::kMaxLevels];
-      const glm::vec4* next_texels[TrilinearFootprints::kMaxLevels];
+      // The next lookup through the same footprint joins this one (a
+      // material's base colour and metallic-roughness, its normal and occlusion).
       const Image* next = k + 1 < count && lookups[k + 1].sampler == sampler ? lookups[k + 1].image : nullptr;
       if (next && next->mips.size() == image.mips.size() && next->mips[0].width == width &&
-          next->mips[0].height == height && decoded_levels(image, texels) && decoded_levels(*next, next_texels)) {
-        sample_trilinear_pair(texels, next_texels, common, n, texel, texel + n);
+          next->mips[0].height == height) {
+        sample_trilinear_pair(image, *next, common, n, texel, texel + n);
         ++k;
       } else {
         sample_trilinear(image, common, n, texel);

@@ -3,8 +3,9 @@
 // following the OpenGL 4.6 rules (section 8.14): level of detail from the
 // scale factor, magnification/minification filters, nearest or linear
 // (trilinear) mip selection, and the three glTF wrap modes. Texels are read
-// as decoded at load (MipLevel::texels, image_texels.h: sRGB to linear before
-// filtering, as GPUs do): every image sampled must have been decoded.
+// as stored (RGBA8) and decoded to linear as they are read (texel_decode.h:
+// sRGB colour through a table, other channels code / 255), before filtering,
+// as GPUs do.
 #include <cstdint>
 
 #include <glm/glm.hpp>

@@ -2,8 +2,8 @@
 // become the one image of a minimal GLB (a bufferView image used as a
 // material's base colour texture), so they go through exactly what a model's
 // image goes through: capture_gltf_image (header, format and size checks),
-// decode_gltf_image (stb_image), mips and the linear-float texel copies,
-// under the loader's own limits and memory budget.
+// decode_gltf_image (stb_image) and mips (top levels dropped where the
+// texture budget asks), under the loader's own limits and memory budget.
 #include <cstring>
 #include <string>
 #include <vector>

@@ -8,7 +8,7 @@ namespace {
 cr::Image make_image(int w, int h, bool srgb, uint8_t value = 0) {
   cr::Image img;
   img.srgb = srgb;
-  img.mips.push_back({w, h, std::vector<uint8_t>(static_cast<size_t>(w) * h * 4, value), {}});
+  img.mips.push_back({w, h, std::vector<uint8_t>(static_cast<size_t>(w) * h * 4, value)});
   return img;
 }
 
@@ -69,4 +69,24 @@ TEST_CASE("odd edges fold the last row/column into the box") {
   cr::generate_mips(img);
   REQUIRE(img.mips.size() == 2);
   CHECK(img.mips[1].rgba[0] == 85);
+}
+
+TEST_CASE("a chain that drops its top levels keeps exactly the full chain's lower levels") {
+  cr::Image full = make_image(13, 6, true);
+  for (size_t i = 0; i < full.mips[0].rgba.size(); ++i) full.mips[0].rgba[i] = uint8_t((i * 71 + 5) % 256);
+  const cr::Image base = full;
+  cr::generate_mips(full);
+  REQUIRE(full.mips.size() == 4);  // 13x6, 6x3, 3x1, 1x1
+  for (int drop = 1; drop <= 5; ++drop) {
+    CAPTURE(drop);
+    cr::Image img = base;
+    cr::generate_mips(img, drop);
+    const size_t first = std::min<size_t>(size_t(drop), full.mips.size() - 1);  // never past 1x1
+    REQUIRE(img.mips.size() == full.mips.size() - first);
+    for (size_t l = 0; l < img.mips.size(); ++l) {
+      CHECK(img.mips[l].width == full.mips[first + l].width);
+      CHECK(img.mips[l].height == full.mips[first + l].height);
+      CHECK(img.mips[l].rgba == full.mips[first + l].rgba);
+    }
+  }
 }

@@ -8,7 +8,6 @@
 
 #include "engine/core/math_constants.h"
 #include "engine/scene/image_mips.h"
-#include "engine/scene/image_texels.h"
 #include "engine/shading/material_eval.h"
 #include "engine/shading/texture_sampler.h"
 #include "engine/shading/uv_transform.h"
@@ -21,21 +20,19 @@ namespace {
 // in 8 bits: reading it tells where a lookup landed.
 Image coordinate_image(int w, int h) {
   Image img;
-  MipLevel level{w, h, {}, {}};
+  MipLevel level{w, h, {}};
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x)
       for (int c : {x * 255 / (w - 1), y * 255 / (h - 1), 0, 255}) level.rgba.push_back(uint8_t(c));
   img.mips.push_back(level);
   generate_mips(img);
-  decode_texels(img);
   return img;
 }
 
 // One RGBA8 texel, linear.
 Image texel_image(uint8_t r, uint8_t g, uint8_t b) {
   Image img;
-  img.mips.push_back(MipLevel{1, 1, {r, g, b, 255}, {}});
-  decode_texels(img);
+  img.mips.push_back(MipLevel{1, 1, {r, g, b, 255}});
   return img;
 }
 

@@ -5,7 +5,6 @@
 #include <limits>
 
 #include "engine/core/math_constants.h"
-#include "engine/scene/image_texels.h"
 #include "engine/shading/brdf.h"
 #include "engine/shading/material_eval.h"
 #include "engine/shading/sh_lighting.h"
@@ -19,8 +18,7 @@ namespace {
 Image texel_image(uint8_t r, uint8_t g, uint8_t b, uint8_t a, bool srgb = false) {
   Image img;
   img.srgb = srgb;
-  img.mips.push_back(MipLevel{1, 1, {r, g, b, a}, {}});
-  decode_texels(img);
+  img.mips.push_back(MipLevel{1, 1, {r, g, b, a}});
   return img;
 }
 

@@ -8,7 +8,6 @@
 
 #include "engine/raster/triangle_interp.h"
 #include "engine/scene/image_mips.h"
-#include "engine/scene/image_texels.h"
 #include "engine/shading/material_batch.h"
 #include "engine/shading/material_eval.h"
 #include "engine/shading/sh_lighting.h"
@@ -163,11 +162,10 @@ MaterialScene material_scene(Lcg& rng) {
   for (const bool srgb : {true, false}) {
     Image image;
     image.srgb = srgb;
-    MipLevel level{16, 16, {}, {}};
+    MipLevel level{16, 16, {}};
     for (int i = 0; i < 16 * 16 * 4; ++i) level.rgba.push_back(uint8_t(rng.next(0.0f, 256.0f)));
     image.mips.push_back(level);
     generate_mips(image);
-    if (srgb) decode_texels(image);
     scene.images.push_back(image);
   }
   scene.samplers.push_back({Wrap::MirroredRepeat, Wrap::ClampToEdge, Filter::Nearest, Filter::Linear, Filter::Linear});

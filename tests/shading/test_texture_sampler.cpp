@@ -7,7 +7,7 @@
 
 #include "engine/shading/small_floor.h"
 #include "engine/core/srgb.h"
-#include "engine/scene/image_texels.h"
+#include "engine/shading/texel_decode.h"
 #include "engine/shading/texture_sampler.h"
 
 using namespace cr;
@@ -25,7 +25,6 @@ Image level_coded_image(int size) {
     for (size_t i = 0; i < size_t(s) * s; ++i) m.rgba[i * 4] = uint8_t(40 * l);
     img.mips.push_back(m);
   }
-  decode_texels(img);
   return img;
 }
 
@@ -42,20 +41,18 @@ Image row_image() {
     m.rgba[i * 4 + 3] = 255;
   }
   img.mips.push_back(m);
-  decode_texels(img);
   return img;
 }
 
 float red(const glm::vec4& c) { return c.r * 255.0f; }
 
 // A size x size sRGB mip chain of arbitrary bytes (byte i of a level is
-// (i * mul + add) % mod), decoded: distinct texels, every channel varying.
+// (i * mul + add) % mod): distinct texels, every channel varying.
 Image scrambled_image(int size, size_t mul, size_t add, size_t mod) {
   Image img = level_coded_image(size);
   for (MipLevel& m : img.mips)
     for (size_t i = 0; i < m.rgba.size(); ++i) m.rgba[i] = uint8_t((i * mul + add) % mod);
   img.srgb = true;
-  decode_texels(img);
   return img;
 }
 
@@ -168,8 +165,7 @@ TEST_CASE("sRGB images decode through the table; the table round-trips every cod
   }
   Image img;
   img.srgb = true;
-  img.mips.push_back(MipLevel{1, 1, {128, 64, 255, 128}, {}});
-  decode_texels(img);
+  img.mips.push_back(MipLevel{1, 1, {128, 64, 255, 128}});
   const glm::vec4 c = sample_level(img, 0, {0.5f, 0.5f}, Filter::Linear, Wrap::Repeat, Wrap::Repeat);
   CHECK(c.r == table[128]);
   CHECK(c.g == table[64]);
@@ -201,7 +197,6 @@ TEST_CASE("sample_level matches the specification's formulas bit for bit at and 
   m.height = 7;
   for (int i = 0; i < 13 * 7 * 4; ++i) m.rgba.push_back(uint8_t((i * 37 + 11) % 256));
   img.mips.push_back(m);
-  decode_texels(img);
   auto texel = [&](int x, int y) { return fetch_texel(img, 0, x, y); };
   for (Wrap wrap : {Wrap::Repeat, Wrap::ClampToEdge, Wrap::MirroredRepeat}) {
     for (float u : {-3.96f, -1.0f, -0.5f, -0.01f, 0.0f, 0.02f, 0.3f, 0.5f, 0.97f, 1.0f, 1.04f, 2.5f, 7.31f}) {
@@ -278,8 +273,9 @@ TEST_CASE("sample_textures equals each image's own lookup, footprints shared or 
     }
 }
 
-TEST_CASE("decoded texels are the table decode of every code: sRGB colour, linear alpha and UNORM channels") {
-  // All 256 codes in every channel, for an sRGB and a linear image.
+TEST_CASE("texels decode through the tables: sRGB colour, linear alpha and UNORM channels, every code") {
+  // All 256 codes in every channel, for an sRGB and a linear image, read
+  // texel by texel and through nearest and linear lookups at texel centres.
   for (bool srgb : {false, true}) {
     Image img;
     img.srgb = srgb;
@@ -289,51 +285,44 @@ TEST_CASE("decoded texels are the table decode of every code: sRGB colour, linea
     for (int i = 0; i < 256; ++i)
       for (int c = 0; c < 4; ++c) m.rgba.push_back(uint8_t((i + 64 * c) % 256));
     img.mips.push_back(m);
-    decode_texels(img);
-    REQUIRE(img.mips[0].texels.size() == 256);
     for (int i = 0; i < 256; ++i) {
-      const glm::vec4 t = img.mips[0].texels[size_t(i)];
+      const glm::vec2 centre((float(i) + 0.5f) / 256.0f, 0.5f);
+      const glm::vec4 texel = fetch_texel(img, 0, i, 0);
+      const glm::vec4 nearest = sample_level(img, 0, centre, Filter::Nearest, Wrap::Repeat, Wrap::Repeat);
+      const glm::vec4 linear = sample_level(img, 0, centre, Filter::Linear, Wrap::Repeat, Wrap::Repeat);
       for (int c = 0; c < 4; ++c) {
         const size_t code = size_t((i + 64 * c) % 256);
-        CHECK(t[c] == (srgb && c < 3 ? srgb_decode_table()[code] : float(code) / 255.0f));
+        const float expected = srgb && c < 3 ? srgb_decode_table()[code] : unorm_decode_table()[code];
+        CHECK(texel[c] == expected);
+        CHECK(nearest[c] == expected);
+        CHECK(linear[c] == expected);
       }
     }
   }
-}
-
-TEST_CASE("images without decoded texels (over the load budget) sample to the same bits") {
-  Image decoded = scrambled_image(32, 29, 3, 256);
-  for (bool srgb : {false, true}) {
-    decoded.srgb = srgb;
-    decode_texels(decoded);
-    Image coded = decoded;
-    for (MipLevel& m : coded.mips) m.texels.clear();
-    const Sampler trilinear = make_sampler(Filter::Linear, Filter::Linear, Filter::Linear);
-    const Sampler nearest = make_sampler(Filter::Nearest, Filter::Nearest, Filter::Nearest, Wrap::MirroredRepeat);
-    int compared = 0;
-    for (const Sampler* s : {&trilinear, &nearest})
-      for (int i = 0; i < 200; ++i) {
-        const glm::vec2 uv(float(i) * 0.0731f - 3.0f, float(i * i % 97) * 0.0213f);
-        const glm::vec2 d(std::ldexp(1.0f, -(i % 9)), 0.0f);
-        const glm::vec4 a = sample_texture(decoded, *s, uv, d, glm::vec2(0.0f, d.x * 0.5f));
-        const glm::vec4 b = sample_texture(coded, *s, uv, d, glm::vec2(0.0f, d.x * 0.5f));
-        CHECK(std::memcmp(&a, &b, sizeof a) == 0);
-        ++compared;
-      }
-    CHECK(fetch_texel(decoded, 1, 3, 5) == fetch_texel(coded, 1, 3, 5));
-    CHECK(compared == 400);
+  for (int code = 0; code < 256; ++code) CHECK(unorm_decode_table()[size_t(code)] == float(code) / 255.0f);
+#if defined(__AVX2__)
+  // Two linear texels decoded side by side: the same floats as one by one.
+  for (int code = 0; code < 256; ++code) {
+    const uint8_t a[4] = {uint8_t(code), uint8_t(255 - code), uint8_t(code * 7), uint8_t(code * 13)};
+    const uint8_t b[4] = {uint8_t(code * 3), uint8_t(code + 1), uint8_t(code * 11), uint8_t(code * 5)};
+    const LinearTexels::Pair pair = LinearTexels::pair(a, b);
+    for (int c = 0; c < 4; ++c) {
+      CHECK(pair[c] == unorm_decode_table()[a[c]]);
+      CHECK(pair[4 + c] == unorm_decode_table()[b[c]]);
+    }
   }
+#endif
 }
 
 TEST_CASE("sample_textures over many points equals the lookups point by point, bit for bit") {
   // Lookups that switch image size and sampler (each switch recomputes what it
-  // invalidates), an image without levels and one without decoded texels
-  // (over the load budget); points with zero, tiny, huge, infinite and NaN
-  // derivatives and UVs far outside [0, 1], so that every mip branch runs.
+  // invalidates), an image without levels, sRGB and linear images; points
+  // with zero, tiny, huge, infinite and NaN derivatives and UVs far outside
+  // [0, 1], so that every mip branch runs.
   Image small = level_coded_image(16);
   const Image large = scrambled_image(64, 41, 5, 256);
   Image coded = large;
-  for (MipLevel& m : coded.mips) m.texels.clear();
+  coded.srgb = false;
   const Image empty;
   const Sampler trilinear = make_sampler(Filter::Linear, Filter::Linear, Filter::Linear);
   const Sampler mirrored = make_sampler(Filter::Nearest, Filter::Linear, Filter::Nearest, Wrap::MirroredRepeat);
