@@ -188,7 +188,7 @@ void walk_small(TriangleWalk& w, const PixelRect& r) {
   const ScreenTriangle& t = w.t;
   const int live[3] = {0, 1, 2};
   int32_t row[3];
-  for (int e = 0; e < 3; ++e) row[e] = int32_t(t.c[e] + int64_t(t.a[e]) * r.x0 + int64_t(t.b[e]) * r.y0);
+  for (int e = 0; e < 3; ++e) row[e] = int32_t(t.c(e) + int64_t(t.a[e]) * r.x0 + int64_t(t.b[e]) * r.y0);
   // Column masks: full spans, then the last span of each row.
   const __m128i all = _mm_set1_epi32(-1);
   __m128i last_lo, last_hi;
@@ -221,7 +221,7 @@ void walk_blocks(TriangleWalk& w, const PixelRect& r) {
       int n = 0;
       bool rejected = false;
       for (int e = 0; e < 3; ++e) {
-        const int64_t fe = t.c[e] + int64_t(t.a[e]) * bx + int64_t(t.b[e]) * by;
+        const int64_t fe = t.c(e) + int64_t(t.a[e]) * bx + int64_t(t.b[e]) * by;
         const int64_t dx = int64_t(t.a[e]) * (bw - 1), dy = int64_t(t.b[e]) * (bh - 1);
         if (fe + std::max<int64_t>(dx, 0) + std::max<int64_t>(dy, 0) < 0) {
           rejected = true;
@@ -244,9 +244,28 @@ void walk_blocks(TriangleWalk& w, const PixelRect& r) {
   }
 }
 
+// A tiny triangle: its covered pixels are known (ScreenTriangle::mask), one
+// span per row of its bounds b, here limited to r.
 template <TileMode Mode>
-void walk(TriangleWalk& w, const PixelRect& r) {
-  if (w.t.small)
+void walk_tiny(TriangleWalk& w, const PixelRect& b, const PixelRect& r) {
+  const uint64_t mask = w.t.mask;
+  const int shift = r.x0 - b.x0;
+  const unsigned cols = (2u << (r.x1 - r.x0)) - 1;
+  const __m128i bit_lo = _mm_setr_epi32(1, 2, 4, 8), bit_hi = _mm_setr_epi32(16, 32, 64, 128);
+  for (int y = r.y0; y <= r.y1; ++y) {
+    const unsigned bits = unsigned(mask >> (kTinySize * (y - b.y0) + shift)) & cols;
+    if (!bits) continue;
+    const __m128i m = _mm_set1_epi32(int(bits));
+    w.template shade<Mode>(r.x0, y, _mm_cmpeq_epi32(_mm_and_si128(m, bit_lo), bit_lo),
+                           _mm_cmpeq_epi32(_mm_and_si128(m, bit_hi), bit_hi));
+  }
+}
+
+template <TileMode Mode>
+void walk(TriangleWalk& w, const PixelRect& b, const PixelRect& r) {
+  if (w.t.tiny)
+    walk_tiny<Mode>(w, b, r);
+  else if (w.t.small)
     walk_small<Mode>(w, r);
   else
     walk_blocks<Mode>(w, r);
@@ -259,7 +278,7 @@ void walk(TriangleWalk& w, const PixelRect& r) {
 ScreenTriangle at_sample(const ScreenTriangle& t, const SamplePattern& pattern, int s) {
   ScreenTriangle ts = t;
   const int64_t dx = pattern.dx_subpixels(s), dy = pattern.dy_subpixels(s);
-  for (int e = 0; e < 3; ++e) ts.c[e] = (t.c_num[e] + t.a[e] * dx + t.b[e] * dy) >> kSubpixelBits;
+  for (int e = 0; e < 3; ++e) ts.c_num[e] = t.c_num[e] + t.a[e] * dx + t.b[e] * dy;  // c(e): the same shift
   ts.z0 = t.z0 + (t.zx * pattern.dx(s) + t.zy * pattern.dy(s));
   return ts;
 }
@@ -341,11 +360,12 @@ void raster_triangles(const PixelRect& tile_rect, std::span<const GeometryChunk>
     for (uint32_t i = chunk.bins.begin[tile]; i < end; ++i) {
       const uint32_t k = chunk.bins.items[i];
       const ScreenTriangle& t = setup.triangles[k];
-      const PixelRect r = intersect(setup.bounds[k], tile_rect);
+      const PixelRect& b = setup.bounds[k];
+      const PixelRect r = intersect(b, tile_rect);
       ctx.stats->triangles += 1;
       if (pattern.count == 1) {
         TriangleWalk w(t, setup.interps[t.interp], ctx);
-        walk<Mode>(w, r);
+        walk<Mode>(w, b, r);
         continue;
       }
       for (int s = 0; s < pattern.count; ++s) {
@@ -360,7 +380,7 @@ void raster_triangles(const PixelRect& tile_rect, std::span<const GeometryChunk>
         sample_ctx.sample_dx = pattern.dx(s);
         sample_ctx.sample_dy = pattern.dy(s);
         TriangleWalk w(ts, setup.interps[t.interp], sample_ctx);
-        walk<Mode>(w, r);
+        walk<Mode>(w, b, r);
       }
       if constexpr (Mode == TileMode::Blended) deliver_coverage(t, setup.interps[t.interp], r, ctx);
     }

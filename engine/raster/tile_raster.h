@@ -3,6 +3,9 @@
 // submission order, into a tile-local buffer that is copied out at the end
 // (one job per tile, so every output pixel has exactly one writer).
 //
+// A tiny triangle (one sample per pixel, pixel bounds within 8x8) had its
+// covered pixel centres found at setup (ScreenTriangle::mask; one that covers
+// none was not emitted), so only its depth is evaluated, one span per row.
 // A small triangle (vertex extent <= 64 pixels, the common case) has all its
 // edge values in int32 and is scanned row by row over its box, 8 pixels per
 // SSE2 span. A larger one is walked in 8x8 blocks, each classifying the edges

@@ -51,6 +51,8 @@ void TiledRasterizer::build(JobSystem& jobs, GeometrySet set, std::span<const Ra
   params.band = GuardBand::for_image(grid.width, grid.height, kGuardBandPixels);
   params.cull = cull;
   params.sample_margin = sample_margin;
+  params.sx = 2.0 / params.width;
+  params.sy = -2.0 / params.height;
 
   g.vertices.resize(vertex_count);
   jobs.parallel_for("vertex", vertex_count, kVertexGrain, [&](size_t begin, size_t end) {
@@ -84,7 +86,7 @@ void TiledRasterizer::build(JobSystem& jobs, GeometrySet set, std::span<const Ra
   });
 
   jobs.parallel_for("bin", g.chunk_count, 1, [&](size_t begin, size_t end) {
-    for (size_t c = begin; c < end; ++c) bin_triangles(g.chunks[c].setup, grid, g.chunks[c].bins);
+    for (size_t c = begin; c < end; ++c) bin_triangles(g.chunks[c].setup, grid, sample_margin, g.chunks[c].bins);
   });
 
   RasterStats& s = g.stats;

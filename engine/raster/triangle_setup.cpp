@@ -1,5 +1,7 @@
 #include "engine/raster/triangle_setup.h"
 
+#include <emmintrin.h>
+
 #include <algorithm>
 #include <cmath>
 #include <utility>
@@ -45,7 +47,7 @@ PixelRect pixel_bounds(const int32_t* xs, const int32_t* ys, int n, const SetupP
 
 // Edge from (xi, yi) to (xj, yj) of a triangle with positive area in pixel
 // (y-down) coordinates, so the interior is where the edge function is positive.
-void set_edge(ScreenTriangle& t, int e, int32_t xi, int32_t yi, int32_t xj, int32_t yj, int32_t margin) {
+void set_edge(ScreenTriangle& t, int e, int32_t xi, int32_t yi, int32_t xj, int32_t yj) {
   const int32_t a = yi - yj, b = xj - xi;
   // E(X, Y) = a X + b Y + c at subpixel position (X, Y).
   const int64_t c = -(int64_t(a) * xi + int64_t(b) * yi);
@@ -56,12 +58,37 @@ void set_edge(ScreenTriangle& t, int e, int32_t xi, int32_t yi, int32_t xj, int3
   // At the centre of pixel (x, y): E = 256 (a x + b y) + k with
   // k = 128 (a + b) + c. Covered iff E >= 0 (top-left) or E >= 1, and as
   // a x + b y is an integer this equals a x + b y + floor(k' / 256) >= 0.
-  const int64_t k = int64_t(kSubpixelScale / 2) * (int64_t(a) + b) + c - (top_left ? 0 : 1);
   t.a[e] = a;
   t.b[e] = b;
-  t.c[e] = k >> kSubpixelBits;  // arithmetic shift: floor division
-  t.c_num[e] = k;
-  t.c_any[e] = (k + (int64_t(a < 0 ? -a : a) + (b < 0 ? -b : b)) * margin) >> kSubpixelBits;
+  t.c_num[e] = int64_t(kSubpixelScale / 2) * (int64_t(a) + b) + c - (top_left ? 0 : 1);
+}
+
+// Covered pixel centres of a small triangle within r (at most kTinySize
+// pixels either way), as ScreenTriangle::mask; the edge values fit in int32.
+uint64_t tiny_coverage(const ScreenTriangle& t, const PixelRect& r) {
+  __m128i f_lo[3], f_hi[3], step[3];
+  for (int e = 0; e < 3; ++e) {
+    const int32_t a = t.a[e];
+    const __m128i f = _mm_set1_epi32(int32_t(t.c(e) + int64_t(a) * r.x0 + int64_t(t.b[e]) * r.y0));
+    f_lo[e] = _mm_add_epi32(f, _mm_setr_epi32(0, a, 2 * a, 3 * a));
+    f_hi[e] = _mm_add_epi32(f, _mm_setr_epi32(4 * a, 5 * a, 6 * a, 7 * a));
+    step[e] = _mm_set1_epi32(t.b[e]);
+  }
+  const unsigned cols = (2u << (r.x1 - r.x0)) - 1;
+  uint64_t mask = 0;
+  for (int j = 0; j <= r.y1 - r.y0; ++j) {
+    // Covered where no edge value is negative (sign bit of the OR clear).
+    const __m128i lo = _mm_or_si128(_mm_or_si128(f_lo[0], f_lo[1]), f_lo[2]);
+    const __m128i hi = _mm_or_si128(_mm_or_si128(f_hi[0], f_hi[1]), f_hi[2]);
+    const unsigned outside =
+        unsigned(_mm_movemask_ps(_mm_castsi128_ps(lo))) | unsigned(_mm_movemask_ps(_mm_castsi128_ps(hi))) << 4;
+    mask |= uint64_t(~outside & cols) << (kTinySize * j);
+    for (int e = 0; e < 3; ++e) {
+      f_lo[e] = _mm_add_epi32(f_lo[e], step[e]);
+      f_hi[e] = _mm_add_epi32(f_hi[e], step[e]);
+    }
+  }
+  return mask;
 }
 
 }  // namespace
@@ -101,13 +128,26 @@ void setup_triangle(const ProjectedVertex& pv0, const ProjectedVertex& pv1, cons
     ++out.counters.culled;
     return;
   }
-  if (any_out == 0 && params.cull == CullMode::Back && !draw.double_sided) {
-    // Unclipped (all w > 0): the exact snapped area rejects back faces before
-    // any floating-point work. Counter-clockwise in NDC (y up) is a negative
-    // area in pixels (y down).
-    const int64_t area = (int64_t(pv1.x) - pv0.x) * (int64_t(pv2.y) - pv0.y) -
-                         (int64_t(pv2.x) - pv0.x) * (int64_t(pv1.y) - pv0.y);
-    if (area == 0 || (area < 0) == draw.mirrored) {
+  // Every test below that drops the triangle counts it as culled, whichever
+  // fails first: the cheap integer ones come first.
+  int32_t xs[kMaxClippedVertices], ys[kMaxClippedVertices];
+  PixelRect poly_bounds;
+  if (any_out == 0) {
+    xs[0] = pv0.x, xs[1] = pv1.x, xs[2] = pv2.x;
+    ys[0] = pv0.y, ys[1] = pv1.y, ys[2] = pv2.y;
+    if (params.cull == CullMode::Back && !draw.double_sided) {
+      // Unclipped (all w > 0): the exact snapped area rejects back faces before
+      // any floating-point work. Counter-clockwise in NDC (y up) is a negative
+      // area in pixels (y down).
+      const int64_t area = (int64_t(pv1.x) - pv0.x) * (int64_t(pv2.y) - pv0.y) -
+                           (int64_t(pv2.x) - pv0.x) * (int64_t(pv1.y) - pv0.y);
+      if (area == 0 || (area < 0) == draw.mirrored) {
+        ++out.counters.culled;
+        return;
+      }
+    }
+    poly_bounds = pixel_bounds(xs, ys, 3, params);
+    if (poly_bounds.empty()) {
       ++out.counters.culled;
       return;
     }
@@ -130,14 +170,18 @@ void setup_triangle(const ProjectedVertex& pv0, const ProjectedVertex& pv1, cons
     return;
   }
 
-  int32_t xs[kMaxClippedVertices], ys[kMaxClippedVertices];
   double zmin, zmax;
   int count = 3;
   if (any_out == 0) {
-    xs[0] = pv0.x, xs[1] = pv1.x, xs[2] = pv2.x;
-    ys[0] = pv0.y, ys[1] = pv1.y, ys[2] = pv2.y;
     zmin = std::min({pv0.z, pv1.z, pv2.z});
     zmax = std::max({pv0.z, pv1.z, pv2.z});
+    // The only piece is the triangle itself: its winding after snapping.
+    const int64_t area = (int64_t(xs[1]) - xs[0]) * (int64_t(ys[2]) - ys[0]) -
+                         (int64_t(xs[2]) - xs[0]) * (int64_t(ys[1]) - ys[0]);
+    if (area == 0 || (area < 0) != ccw) {
+      ++out.counters.culled;
+      return;
+    }
   } else {
     ++out.counters.clipped;
     ClipPolygon poly;
@@ -154,23 +198,24 @@ void setup_triangle(const ProjectedVertex& pv0, const ProjectedVertex& pv1, cons
       zmin = std::min(zmin, z);
       zmax = std::max(zmax, z);
     }
-  }
-  if (count < 3) {
-    ++out.counters.culled;
-    return;
-  }
-  const PixelRect poly_bounds = pixel_bounds(xs, ys, count, params);
-  if (poly_bounds.empty()) {
-    ++out.counters.culled;
-    return;
+    if (count < 3) {
+      ++out.counters.culled;
+      return;
+    }
+    poly_bounds = pixel_bounds(xs, ys, count, params);
+    if (poly_bounds.empty()) {
+      ++out.counters.culled;
+      return;
+    }
   }
 
   // Interpolation planes of the original triangle in pixel units, relative to
   // the polygon's first pixel centre. ndc = (2 px / W - 1, 1 - 2 py / H).
   const double ref_x = poly_bounds.x0 + 0.5, ref_y = poly_bounds.y0 + 0.5;
   const double qx = 2.0 * ref_x / params.width - 1.0, qy = 1.0 - 2.0 * ref_y / params.height;
-  const double inv_det = 1.0 / det, sx = 2.0 / params.width, sy = -2.0 / params.height;
-  TriangleInterp ti;
+  const double inv_det = 1.0 / det, sx = params.sx, sy = params.sy;
+  const uint32_t interp_index = uint32_t(out.interps.size());
+  TriangleInterp& ti = out.interps.push_uninit();
   double z0 = 0.0, zx = 0.0, zy = 0.0;
   for (int i = 0; i < 3; ++i) {
     const glm::dvec3 row = n[i] * inv_det;
@@ -188,25 +233,38 @@ void setup_triangle(const ProjectedVertex& pv0, const ProjectedVertex& pv1, cons
   ti.triangle_index = triangle_index;
   ti.front_facing = front;
 
-  const uint32_t interp_index = uint32_t(out.interps.size());
   uint64_t pieces = 0;
   for (int k = 1; k + 1 < count; ++k) {
     int32_t x[3] = {xs[0], xs[k], xs[k + 1]}, y[3] = {ys[0], ys[k], ys[k + 1]};
-    const int64_t area = (int64_t(x[1]) - x[0]) * (int64_t(y[2]) - y[0]) -
-                         (int64_t(x[2]) - x[0]) * (int64_t(y[1]) - y[0]);
-    // Counter-clockwise in NDC (y up) is clockwise in pixels (y down): area < 0.
-    // Zero area or a winding flipped by snapping leaves nothing to draw.
-    if (area == 0 || (area < 0) != ccw) continue;
-    if (area < 0) {
+    if (any_out != 0) {  // (an unclipped triangle's winding was checked above)
+      const int64_t area = (int64_t(x[1]) - x[0]) * (int64_t(y[2]) - y[0]) -
+                           (int64_t(x[2]) - x[0]) * (int64_t(y[1]) - y[0]);
+      // Counter-clockwise in NDC (y up) is clockwise in pixels (y down): area < 0.
+      // Zero area or a winding flipped by snapping leaves nothing to draw.
+      if (area == 0 || (area < 0) != ccw) continue;
+    }
+    if (ccw) {  // area < 0: make it counter-clockwise in pixels (positive area)
       std::swap(x[1], x[2]);
       std::swap(y[1], y[2]);
     }
     const PixelRect r = count == 3 ? poly_bounds : pixel_bounds(x, y, 3, params);
     if (r.empty()) continue;
-    ScreenTriangle& t = out.triangles.emplace_back();
-    set_edge(t, 0, x[0], y[0], x[1], y[1], params.sample_margin);
-    set_edge(t, 1, x[1], y[1], x[2], y[2], params.sample_margin);
-    set_edge(t, 2, x[2], y[2], x[0], y[0], params.sample_margin);
+    ++pieces;
+    ScreenTriangle& t = out.triangles.push_uninit();
+    set_edge(t, 0, x[0], y[0], x[1], y[1]);
+    set_edge(t, 1, x[1], y[1], x[2], y[2]);
+    set_edge(t, 2, x[2], y[2], x[0], y[0]);
+    t.small = std::max({x[0], x[1], x[2]}) - std::min({x[0], x[1], x[2]}) <= kSmallExtent &&
+              std::max({y[0], y[1], y[2]}) - std::min({y[0], y[1], y[2]}) <= kSmallExtent;
+    t.tiny = t.small && params.sample_margin == 0 && r.x1 - r.x0 < kTinySize && r.y1 - r.y0 < kTinySize;
+    t.mask = 0;
+    if (t.tiny) {
+      t.mask = tiny_coverage(t, r);
+      if (t.mask == 0) {  // covers no pixel centre: nothing to rasterise
+        out.triangles.pop_back();
+        continue;
+      }
+    }
     t.z0 = float(z0);
     t.zx = float(zx);
     t.zy = float(zy);
@@ -217,16 +275,13 @@ void setup_triangle(const ProjectedVertex& pv0, const ProjectedVertex& pv1, cons
     t.id = out.id_base + interp_index;
     t.interp = interp_index;
     t.alpha_mask = draw.alpha_mask;
-    t.small = std::max({x[0], x[1], x[2]}) - std::min({x[0], x[1], x[2]}) <= kSmallExtent &&
-              std::max({y[0], y[1], y[2]}) - std::min({y[0], y[1], y[2]}) <= kSmallExtent;
-    out.bounds.push_back(r);
-    ++pieces;
+    out.bounds.push_uninit() = r;
   }
   if (pieces == 0) {
+    out.interps.pop_back();
     ++out.counters.culled;
     return;
   }
-  out.interps.push_back(ti);
   ++out.counters.visible;
   out.counters.screen += pieces;
 }
