@@ -70,18 +70,15 @@ void TiledRasterizer::build(JobSystem& jobs, GeometrySet set, std::span<const Ra
     const size_t chunk = begin / kSetupChunk;
     SetupBatch& out = g.chunks[chunk].setup;
     out.clear(uint32_t(set) << kSetShift | uint32_t(chunk) << kChunkShift);
+    // The chunk's part of each draw it overlaps.
     size_t d = size_t(std::upper_bound(g.triangle_begin.begin(), g.triangle_begin.end(), begin) - g.triangle_begin.begin()) - 1;
-    for (size_t tri = begin; tri < end; ++tri) {
-      while (tri >= g.triangle_begin[d + 1]) ++d;
+    for (size_t tri = begin; tri < end; ++d) {
+      const size_t draw_end = std::min<size_t>(end, g.triangle_begin[d + 1]);
+      if (draw_end == tri) continue;  // a draw without triangles
       const RasterDraw& draw = draws[d];
-      const size_t local = tri - g.triangle_begin[d];
-      const uint32_t* idx = &draw.primitive->indices[3 * local];
-      const size_t base = g.vertex_begin[d], n = draw.primitive->positions.size();
-      if (idx[0] >= n || idx[1] >= n || idx[2] >= n)
-        throw Error("rasterizer: draw " + std::to_string(draw.draw_index) + " triangle " + std::to_string(local) +
-                    " indexes a vertex out of range");
-      setup_triangle(g.vertices[base + idx[0]], g.vertices[base + idx[1]], g.vertices[base + idx[2]], draw, uint32_t(local),
-                     params, out);
+      setup_triangles(&g.vertices[g.vertex_begin[d]], draw.primitive->positions.size(), draw,
+                      uint32_t(tri - g.triangle_begin[d]), uint32_t(draw_end - tri), params, out);
+      tri = draw_end;
     }
   });
 

@@ -4,7 +4,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 #include <utility>
+
+#include "engine/core/error.h"
 
 namespace cr {
 
@@ -32,7 +35,7 @@ int32_t first_pixel(int32_t lo) { return (lo + (kSubpixelScale / 2 - 1)) >> kSub
 int32_t last_pixel(int32_t hi) { return (hi - kSubpixelScale / 2) >> kSubpixelBits; }
 
 // Pixels with a sample within [lo, hi] (samples up to p.sample_margin from the centre).
-PixelRect pixel_bounds(const int32_t* xs, const int32_t* ys, int n, const SetupParams& p) {
+inline PixelRect pixel_bounds(const int32_t* xs, const int32_t* ys, int n, const SetupParams& p) {
   int32_t xmin = xs[0], xmax = xs[0], ymin = ys[0], ymax = ys[0];
   for (int i = 1; i < n; ++i) {
     xmin = std::min(xmin, xs[i]);
@@ -66,6 +69,16 @@ void set_edge(ScreenTriangle& t, int e, int32_t xi, int32_t yi, int32_t xj, int3
 // Covered pixel centres of a small triangle within r (at most kTinySize
 // pixels either way), as ScreenTriangle::mask; the edge values fit in int32.
 uint64_t tiny_coverage(const ScreenTriangle& t, const PixelRect& r) {
+  if (r.x1 - r.x0 < 2 && r.y1 - r.y0 < 2) {  // up to 2x2 pixels (most tiny triangles): one by one
+    uint64_t mask = 0;
+    for (int j = 0; j <= r.y1 - r.y0; ++j)
+      for (int i = 0; i <= r.x1 - r.x0; ++i) {
+        bool in = true;
+        for (int e = 0; e < 3; ++e) in &= t.c(e) + int64_t(t.a[e]) * (r.x0 + i) + int64_t(t.b[e]) * (r.y0 + j) >= 0;
+        mask |= uint64_t(in) << (kTinySize * j + i);
+      }
+    return mask;
+  }
   __m128i f_lo[3], f_hi[3], step[3];
   for (int e = 0; e < 3; ++e) {
     const int32_t a = t.a[e];
@@ -120,6 +133,58 @@ ProjectedVertex project_vertex(const glm::vec4& clip, const SetupParams& params)
   return v;
 }
 
+namespace {
+
+// Interpolation planes of the original triangle (rows of M^-1 = n / det) in
+// pixel units, relative to the first pixel centre of `bounds`, into ti; the
+// NDC depth plane z0 + zx dx + zy dy of the same reference.
+// ndc = (2 px / W - 1, 1 - 2 py / H).
+void interpolation_planes(const glm::dvec3 (&n)[3], double det, const glm::dvec4 (&v)[3], const PixelRect& bounds,
+                          const SetupParams& params, TriangleInterp& ti, double& z0, double& zx, double& zy) {
+  const double ref_x = bounds.x0 + 0.5, ref_y = bounds.y0 + 0.5;
+  const double qx = 2.0 * ref_x / params.width - 1.0, qy = 1.0 - 2.0 * ref_y / params.height;
+  const double inv_det = 1.0 / det, sx = params.sx, sy = params.sy;
+  z0 = 0.0, zx = 0.0, zy = 0.0;
+  for (int i = 0; i < 3; ++i) {
+    const glm::dvec3 row = n[i] * inv_det;
+    const double u0 = row.x * qx + row.y * qy + row.z, ux = row.x * sx, uy = row.y * sy;
+    ti.u0[i] = float(u0);
+    ti.ux[i] = float(ux);
+    ti.uy[i] = float(uy);
+    z0 += u0 * v[i].z;
+    zx += ux * v[i].z;
+    zy += uy * v[i].z;
+  }
+  ti.ref_x = float(ref_x);
+  ti.ref_y = float(ref_y);
+}
+
+// Edges and size class of the piece with vertices (x, y) (positive area in
+// pixels) and pixel bounds r; false when it is tiny and covers no pixel centre.
+bool set_piece(ScreenTriangle& t, const int32_t (&x)[3], const int32_t (&y)[3], const PixelRect& r,
+               const SetupParams& params) {
+  set_edge(t, 0, x[0], y[0], x[1], y[1]);
+  set_edge(t, 1, x[1], y[1], x[2], y[2]);
+  set_edge(t, 2, x[2], y[2], x[0], y[0]);
+  t.small = std::max({x[0], x[1], x[2]}) - std::min({x[0], x[1], x[2]}) <= kSmallExtent &&
+            std::max({y[0], y[1], y[2]}) - std::min({y[0], y[1], y[2]}) <= kSmallExtent;
+  t.tiny = t.small && params.sample_margin == 0 && r.x1 - r.x0 < kTinySize && r.y1 - r.y0 < kTinySize;
+  t.mask = t.tiny ? tiny_coverage(t, r) : 0;
+  return !t.tiny || t.mask != 0;
+}
+
+void set_depth(ScreenTriangle& t, double z0, double zx, double zy, double zmin, double zmax, const PixelRect& ref) {
+  t.z0 = float(z0);
+  t.zx = float(zx);
+  t.zy = float(zy);
+  t.z_min = float(zmin);
+  t.z_max = float(zmax);
+  t.ref_x = ref.x0;
+  t.ref_y = ref.y0;
+}
+
+}  // namespace
+
 void setup_triangle(const ProjectedVertex& pv0, const ProjectedVertex& pv1, const ProjectedVertex& pv2,
                     const RasterDraw& draw, uint32_t triangle_index, const SetupParams& params, SetupBatch& out) {
   ++out.counters.in;
@@ -170,80 +235,83 @@ void setup_triangle(const ProjectedVertex& pv0, const ProjectedVertex& pv1, cons
     return;
   }
 
-  double zmin, zmax;
-  int count = 3;
   if (any_out == 0) {
-    zmin = std::min({pv0.z, pv1.z, pv2.z});
-    zmax = std::max({pv0.z, pv1.z, pv2.z});
-    // The only piece is the triangle itself: its winding after snapping.
+    // Unclipped: the only piece is the triangle itself. Counter-clockwise in
+    // NDC (y up) is clockwise in pixels (y down): area < 0. Zero area or a
+    // winding flipped by snapping leaves nothing to draw.
     const int64_t area = (int64_t(xs[1]) - xs[0]) * (int64_t(ys[2]) - ys[0]) -
                          (int64_t(xs[2]) - xs[0]) * (int64_t(ys[1]) - ys[0]);
     if (area == 0 || (area < 0) != ccw) {
       ++out.counters.culled;
       return;
     }
-  } else {
-    ++out.counters.clipped;
-    ClipPolygon poly;
-    clip_triangle(v[0], v[1], v[2], any_out, params.band, poly);
-    count = poly.count;
-    zmin = HUGE_VAL, zmax = -HUGE_VAL;
-    for (int i = 0; i < count; ++i) {
-      if (!(poly.v[i].w > 0.0)) {  // only a degenerate matrix gets here (w >= z >= 0 after clipping)
-        count = 0;
-        break;
-      }
-      double z;
-      snap(poly.v[i], params, xs[i], ys[i], z);
-      zmin = std::min(zmin, z);
-      zmax = std::max(zmax, z);
-    }
-    if (count < 3) {
-      ++out.counters.culled;
+    const int32_t x[3] = {xs[0], ccw ? xs[2] : xs[1], ccw ? xs[1] : xs[2]};
+    const int32_t y[3] = {ys[0], ccw ? ys[2] : ys[1], ccw ? ys[1] : ys[2]};
+    const uint32_t interp_index = uint32_t(out.interps.size());
+    TriangleInterp& ti = out.interps.push_uninit();
+    ++out.counters.visible;
+    ++out.counters.screen;
+    ScreenTriangle& t = out.triangles.push_uninit();
+    if (!set_piece(t, x, y, poly_bounds, params)) {
+      // Tiny and covering no pixel centre: it keeps its id, which nothing
+      // will report, so its interpolation planes are never computed.
+      out.triangles.pop_back();
       return;
     }
-    poly_bounds = pixel_bounds(xs, ys, count, params);
-    if (poly_bounds.empty()) {
-      ++out.counters.culled;
-      return;
-    }
+    double z0, zx, zy;
+    interpolation_planes(n, det, v, poly_bounds, params, ti, z0, zx, zy);
+    ti.draw_index = draw.draw_index;
+    ti.triangle_index = triangle_index;
+    ti.front_facing = front;
+    set_depth(t, z0, zx, zy, std::min({pv0.z, pv1.z, pv2.z}), std::max({pv0.z, pv1.z, pv2.z}), poly_bounds);
+    t.id = out.id_base + interp_index;
+    t.interp = interp_index;
+    t.alpha_mask = draw.alpha_mask;
+    out.bounds.push_uninit() = poly_bounds;
+    return;
   }
 
-  // Interpolation planes of the original triangle in pixel units, relative to
-  // the polygon's first pixel centre. ndc = (2 px / W - 1, 1 - 2 py / H).
-  const double ref_x = poly_bounds.x0 + 0.5, ref_y = poly_bounds.y0 + 0.5;
-  const double qx = 2.0 * ref_x / params.width - 1.0, qy = 1.0 - 2.0 * ref_y / params.height;
-  const double inv_det = 1.0 / det, sx = params.sx, sy = params.sy;
+  ++out.counters.clipped;
+  ClipPolygon poly;
+  clip_triangle(v[0], v[1], v[2], any_out, params.band, poly);
+  int count = poly.count;
+  double zmin = HUGE_VAL, zmax = -HUGE_VAL;
+  for (int i = 0; i < count; ++i) {
+    if (!(poly.v[i].w > 0.0)) {  // only a degenerate matrix gets here (w >= z >= 0 after clipping)
+      count = 0;
+      break;
+    }
+    double z;
+    snap(poly.v[i], params, xs[i], ys[i], z);
+    zmin = std::min(zmin, z);
+    zmax = std::max(zmax, z);
+  }
+  if (count < 3) {
+    ++out.counters.culled;
+    return;
+  }
+  poly_bounds = pixel_bounds(xs, ys, count, params);
+  if (poly_bounds.empty()) {
+    ++out.counters.culled;
+    return;
+  }
+
   const uint32_t interp_index = uint32_t(out.interps.size());
   TriangleInterp& ti = out.interps.push_uninit();
-  double z0 = 0.0, zx = 0.0, zy = 0.0;
-  for (int i = 0; i < 3; ++i) {
-    const glm::dvec3 row = n[i] * inv_det;
-    const double u0 = row.x * qx + row.y * qy + row.z, ux = row.x * sx, uy = row.y * sy;
-    ti.u0[i] = float(u0);
-    ti.ux[i] = float(ux);
-    ti.uy[i] = float(uy);
-    z0 += u0 * v[i].z;
-    zx += ux * v[i].z;
-    zy += uy * v[i].z;
-  }
-  ti.ref_x = float(ref_x);
-  ti.ref_y = float(ref_y);
+  double z0, zx, zy;
+  interpolation_planes(n, det, v, poly_bounds, params, ti, z0, zx, zy);
   ti.draw_index = draw.draw_index;
   ti.triangle_index = triangle_index;
   ti.front_facing = front;
 
+  // The polygon as a fan of pieces.
   uint64_t pieces = 0;
   for (int k = 1; k + 1 < count; ++k) {
     int32_t x[3] = {xs[0], xs[k], xs[k + 1]}, y[3] = {ys[0], ys[k], ys[k + 1]};
-    if (any_out != 0) {  // (an unclipped triangle's winding was checked above)
-      const int64_t area = (int64_t(x[1]) - x[0]) * (int64_t(y[2]) - y[0]) -
-                           (int64_t(x[2]) - x[0]) * (int64_t(y[1]) - y[0]);
-      // Counter-clockwise in NDC (y up) is clockwise in pixels (y down): area < 0.
-      // Zero area or a winding flipped by snapping leaves nothing to draw.
-      if (area == 0 || (area < 0) != ccw) continue;
-    }
-    if (ccw) {  // area < 0: make it counter-clockwise in pixels (positive area)
+    const int64_t area = (int64_t(x[1]) - x[0]) * (int64_t(y[2]) - y[0]) -
+                         (int64_t(x[2]) - x[0]) * (int64_t(y[1]) - y[0]);
+    if (area == 0 || (area < 0) != ccw) continue;
+    if (area < 0) {
       std::swap(x[1], x[2]);
       std::swap(y[1], y[2]);
     }
@@ -251,27 +319,11 @@ void setup_triangle(const ProjectedVertex& pv0, const ProjectedVertex& pv1, cons
     if (r.empty()) continue;
     ++pieces;
     ScreenTriangle& t = out.triangles.push_uninit();
-    set_edge(t, 0, x[0], y[0], x[1], y[1]);
-    set_edge(t, 1, x[1], y[1], x[2], y[2]);
-    set_edge(t, 2, x[2], y[2], x[0], y[0]);
-    t.small = std::max({x[0], x[1], x[2]}) - std::min({x[0], x[1], x[2]}) <= kSmallExtent &&
-              std::max({y[0], y[1], y[2]}) - std::min({y[0], y[1], y[2]}) <= kSmallExtent;
-    t.tiny = t.small && params.sample_margin == 0 && r.x1 - r.x0 < kTinySize && r.y1 - r.y0 < kTinySize;
-    t.mask = 0;
-    if (t.tiny) {
-      t.mask = tiny_coverage(t, r);
-      if (t.mask == 0) {  // covers no pixel centre: nothing to rasterise
-        out.triangles.pop_back();
-        continue;
-      }
+    if (!set_piece(t, x, y, r, params)) {  // tiny, covering no pixel centre
+      out.triangles.pop_back();
+      continue;
     }
-    t.z0 = float(z0);
-    t.zx = float(zx);
-    t.zy = float(zy);
-    t.z_min = float(zmin);
-    t.z_max = float(zmax);
-    t.ref_x = poly_bounds.x0;
-    t.ref_y = poly_bounds.y0;
+    set_depth(t, z0, zx, zy, zmin, zmax, poly_bounds);
     t.id = out.id_base + interp_index;
     t.interp = interp_index;
     t.alpha_mask = draw.alpha_mask;
@@ -284,6 +336,226 @@ void setup_triangle(const ProjectedVertex& pv0, const ProjectedVertex& pv1, cons
   }
   ++out.counters.visible;
   out.counters.screen += pieces;
+}
+
+namespace {
+
+// Lane-wise vectors of the batched setup (GCC vector extensions: one AVX-512
+// register, or two AVX2 or four SSE2 ones, depending on the baseline).
+constexpr int kLanes = 8;
+typedef double d8 __attribute__((vector_size(8 * kLanes)));
+typedef float f8 __attribute__((vector_size(4 * kLanes)));
+typedef int32_t i8 __attribute__((vector_size(4 * kLanes)));
+
+template <typename V, typename T>
+V load_lanes(const T* p) {
+  V v;
+  __builtin_memcpy(&v, p, sizeof(V));
+  return v;
+}
+template <typename V, typename T>
+void store_lanes(T* p, const V& v) {
+  __builtin_memcpy(p, &v, sizeof(V));
+}
+
+// Triangles of one batch that passed the integer tests, in input order.
+constexpr int kBatch = 64;
+struct Candidates {
+  int n = 0;
+  uint32_t triangle[kBatch];
+  uint32_t vertex[kBatch][3];
+  bool clipped[kBatch];
+  // Unclipped ones: snapped positions, pixel bounds, clip coordinates by vertex.
+  int32_t x[kBatch][3], y[kBatch][3];
+  int64_t area[kBatch];
+  int32_t bx[kBatch], by[kBatch];
+  PixelRect bounds[kBatch];
+  float cx[3][kBatch], cy[3][kBatch], cz[3][kBatch], cw[3][kBatch];
+  // The floating-point work (lanes of d8/f8).
+  double det[kBatch];
+  float u0[3][kBatch], ux[3][kBatch], uy[3][kBatch];
+  float z0[kBatch], zx[kBatch], zy[kBatch];
+};
+
+// det(M) and the interpolation and depth planes of interpolation_planes(),
+// written out operation by operation as glm::cross, glm::dot and that
+// function evaluate them, for lanes [0, n) (rounded up: extra lanes hold
+// whatever the arrays hold and are not used).
+void batch_planes(Candidates& c, const SetupParams& params) {
+  const d8 width = d8{} + double(params.width), height = d8{} + double(params.height);
+  const d8 sx = d8{} + params.sx, sy = d8{} + params.sy;
+  for (int l = 0; l < c.n; l += kLanes) {
+    d8 x[3], y[3], z[3], w[3];
+    for (int k = 0; k < 3; ++k) {
+      x[k] = __builtin_convertvector(load_lanes<f8>(&c.cx[k][l]), d8);
+      y[k] = __builtin_convertvector(load_lanes<f8>(&c.cy[k][l]), d8);
+      z[k] = __builtin_convertvector(load_lanes<f8>(&c.cz[k][l]), d8);
+      w[k] = __builtin_convertvector(load_lanes<f8>(&c.cw[k][l]), d8);
+    }
+    // n[i] = cross(p[i+1], p[i+2]) with p = (x, y, w): (a.y b.z - b.y a.z, a.z b.x - b.z a.x, a.x b.y - b.x a.y).
+    d8 nx[3], ny[3], nz[3];
+    for (int i = 0; i < 3; ++i) {
+      const int a = (i + 1) % 3, b = (i + 2) % 3;
+      nx[i] = y[a] * w[b] - y[b] * w[a];
+      ny[i] = w[a] * x[b] - w[b] * x[a];
+      nz[i] = x[a] * y[b] - x[b] * y[a];
+    }
+    const d8 det = (x[0] * nx[0] + y[0] * ny[0]) + w[0] * nz[0];  // dot(p0, n0)
+    store_lanes(&c.det[l], det);
+    const d8 ref_x = __builtin_convertvector(load_lanes<i8>(&c.bx[l]), d8) + 0.5;
+    const d8 ref_y = __builtin_convertvector(load_lanes<i8>(&c.by[l]), d8) + 0.5;
+    const d8 qx = 2.0 * ref_x / width - 1.0, qy = 1.0 - 2.0 * ref_y / height;
+    const d8 inv_det = 1.0 / det;
+    d8 z0 = d8{}, zx = d8{}, zy = d8{};
+    for (int i = 0; i < 3; ++i) {
+      const d8 rx = nx[i] * inv_det, ry = ny[i] * inv_det, rz = nz[i] * inv_det;
+      const d8 u0 = rx * qx + ry * qy + rz, ux = rx * sx, uy = ry * sy;
+      store_lanes(&c.u0[i][l], __builtin_convertvector(u0, f8));
+      store_lanes(&c.ux[i][l], __builtin_convertvector(ux, f8));
+      store_lanes(&c.uy[i][l], __builtin_convertvector(uy, f8));
+      z0 += u0 * z[i];
+      zx += ux * z[i];
+      zy += uy * z[i];
+    }
+    store_lanes(&c.z0[l], __builtin_convertvector(z0, f8));
+    store_lanes(&c.zx[l], __builtin_convertvector(zx, f8));
+    store_lanes(&c.zy[l], __builtin_convertvector(zy, f8));
+  }
+}
+
+// The rest of setup_triangle for candidate i (unclipped), in input order.
+void finish_candidate(const Candidates& c, int i, const ProjectedVertex* vertices, const RasterDraw& draw,
+                      const SetupParams& params, SetupBatch& out) {
+  const double det = c.det[i];
+  if (!(det != 0.0) || !std::isfinite(det)) {
+    ++out.counters.culled;
+    return;
+  }
+  const bool ccw = det > 0.0;
+  const bool front = ccw != draw.mirrored;
+  if (params.cull == CullMode::Back && !draw.double_sided && !front) {
+    ++out.counters.culled;
+    return;
+  }
+  const int64_t area = c.area[i];
+  if (area == 0 || (area < 0) != ccw) {
+    ++out.counters.culled;
+    return;
+  }
+  const int32_t(&xs)[3] = c.x[i];
+  const int32_t(&ys)[3] = c.y[i];
+  const int32_t x[3] = {xs[0], ccw ? xs[2] : xs[1], ccw ? xs[1] : xs[2]};
+  const int32_t y[3] = {ys[0], ccw ? ys[2] : ys[1], ccw ? ys[1] : ys[2]};
+  const uint32_t interp_index = uint32_t(out.interps.size());
+  TriangleInterp& ti = out.interps.push_uninit();
+  ++out.counters.visible;
+  ++out.counters.screen;
+  ScreenTriangle& t = out.triangles.push_uninit();
+  const PixelRect& bounds = c.bounds[i];
+  if (!set_piece(t, x, y, bounds, params)) {  // tiny, covering no pixel centre (see setup_triangle)
+    out.triangles.pop_back();
+    return;
+  }
+  for (int k = 0; k < 3; ++k) {
+    ti.u0[k] = c.u0[k][i];
+    ti.ux[k] = c.ux[k][i];
+    ti.uy[k] = c.uy[k][i];
+  }
+  ti.ref_x = float(bounds.x0 + 0.5);
+  ti.ref_y = float(bounds.y0 + 0.5);
+  ti.draw_index = draw.draw_index;
+  ti.triangle_index = c.triangle[i];
+  ti.front_facing = front;
+  const ProjectedVertex &v0 = vertices[c.vertex[i][0]], &v1 = vertices[c.vertex[i][1]], &v2 = vertices[c.vertex[i][2]];
+  t.z0 = c.z0[i];
+  t.zx = c.zx[i];
+  t.zy = c.zy[i];
+  t.z_min = std::min({v0.z, v1.z, v2.z});
+  t.z_max = std::max({v0.z, v1.z, v2.z});
+  t.ref_x = bounds.x0;
+  t.ref_y = bounds.y0;
+  t.id = out.id_base + interp_index;
+  t.interp = interp_index;
+  t.alpha_mask = draw.alpha_mask;
+  out.bounds.push_uninit() = bounds;
+}
+
+}  // namespace
+
+void setup_triangles(const ProjectedVertex* vertices, size_t vertex_count, const RasterDraw& draw, uint32_t first,
+                     uint32_t count, const SetupParams& params, SetupBatch& out) {
+  const uint32_t* indices = draw.primitive->indices.data();
+  const bool cull_back = params.cull == CullMode::Back && !draw.double_sided;
+  Candidates c;
+  for (uint32_t begin = first; begin < first + count; begin += kBatch) {
+    const uint32_t end = std::min(first + count, begin + uint32_t(kBatch));
+    // The integer tests of setup_triangle, in order, keeping the candidates.
+    c.n = 0;
+    for (uint32_t tri = begin; tri < end; ++tri) {
+      const uint32_t* idx = &indices[3 * size_t(tri)];
+      if (idx[0] >= vertex_count || idx[1] >= vertex_count || idx[2] >= vertex_count)
+        throw Error("rasterizer: draw " + std::to_string(draw.draw_index) + " triangle " + std::to_string(tri) +
+                    " indexes a vertex out of range");
+      const ProjectedVertex &v0 = vertices[idx[0]], &v1 = vertices[idx[1]], &v2 = vertices[idx[2]];
+      ++out.counters.in;
+      const uint32_t any_out = v0.outcode | v1.outcode | v2.outcode;
+      if ((any_out & kNotFinite) || (v0.outcode & v1.outcode & v2.outcode)) {
+        ++out.counters.culled;
+        continue;
+      }
+      const int i = c.n;
+      c.triangle[i] = tri;
+      c.vertex[i][0] = idx[0], c.vertex[i][1] = idx[1], c.vertex[i][2] = idx[2];
+      c.clipped[i] = any_out != 0;
+      if (any_out != 0) {  // set up on its own below; harmless lanes meanwhile
+        c.bx[i] = c.by[i] = 0;
+        for (int k = 0; k < 3; ++k) c.cx[k][i] = c.cy[k][i] = c.cz[k][i] = c.cw[k][i] = 1.0f;
+      } else {
+        const int64_t area = (int64_t(v1.x) - v0.x) * (int64_t(v2.y) - v0.y) - (int64_t(v2.x) - v0.x) * (int64_t(v1.y) - v0.y);
+        if (cull_back && (area == 0 || (area < 0) == draw.mirrored)) {
+          ++out.counters.culled;
+          continue;
+        }
+        int32_t(&x)[3] = c.x[i];
+        int32_t(&y)[3] = c.y[i];
+        x[0] = v0.x, x[1] = v1.x, x[2] = v2.x;
+        y[0] = v0.y, y[1] = v1.y, y[2] = v2.y;
+        const PixelRect r = pixel_bounds(x, y, 3, params);
+        if (r.empty()) {
+          ++out.counters.culled;
+          continue;
+        }
+        c.area[i] = area;
+        c.bounds[i] = r;
+        c.bx[i] = r.x0;
+        c.by[i] = r.y0;
+        const ProjectedVertex* v[3] = {&v0, &v1, &v2};
+        for (int k = 0; k < 3; ++k) {
+          c.cx[k][i] = v[k]->clip.x;
+          c.cy[k][i] = v[k]->clip.y;
+          c.cz[k][i] = v[k]->clip.z;
+          c.cw[k][i] = v[k]->clip.w;
+        }
+      }
+      ++c.n;
+    }
+    // Lanes past the last candidate: harmless values (their results are not read).
+    for (int i = c.n; i < (c.n + kLanes - 1) / kLanes * kLanes; ++i) {
+      c.bx[i] = c.by[i] = 0;
+      for (int k = 0; k < 3; ++k) c.cx[k][i] = c.cy[k][i] = c.cz[k][i] = c.cw[k][i] = 1.0f;
+    }
+    batch_planes(c, params);
+    for (int i = 0; i < c.n; ++i) {
+      if (!c.clipped[i]) {
+        finish_candidate(c, i, vertices, draw, params, out);
+        continue;
+      }
+      // Clipped: setup_triangle from the start (it counts the triangle in again).
+      --out.counters.in;
+      setup_triangle(vertices[c.vertex[i][0]], vertices[c.vertex[i][1]], vertices[c.vertex[i][2]], draw, c.triangle[i],
+                     params, out);
+    }
+  }
 }
 
 }  // namespace cr

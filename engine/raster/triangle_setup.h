@@ -166,7 +166,17 @@ struct SetupBatch {
 
 // Sets up triangle `triangle_index` of `draw` with vertices v0..v2 and
 // appends what survives to `out` (its id is out.id_base + out.interps.size()).
+// A tiny piece that covers no pixel centre is not emitted; when that leaves
+// nothing of the triangle it still gets its id (and a slot in interps) but
+// no interpolation planes: no output will ever name it.
 void setup_triangle(const ProjectedVertex& v0, const ProjectedVertex& v1, const ProjectedVertex& v2,
                     const RasterDraw& draw, uint32_t triangle_index, const SetupParams& params, SetupBatch& out);
+
+// setup_triangle for triangles first .. first + count - 1 of `draw`, whose
+// projected vertices are vertices[0 .. vertex_count - 1], with the same
+// results; the unclipped ones share their floating-point work in batches
+// (lane-wise, the same IEEE operations). Throws on an index out of range.
+void setup_triangles(const ProjectedVertex* vertices, size_t vertex_count, const RasterDraw& draw, uint32_t first,
+                     uint32_t count, const SetupParams& params, SetupBatch& out);
 
 }  // namespace cr
