@@ -346,6 +346,7 @@ constexpr int kLanes = 8;
 typedef double d8 __attribute__((vector_size(8 * kLanes)));
 typedef float f8 __attribute__((vector_size(4 * kLanes)));
 typedef int32_t i8 __attribute__((vector_size(4 * kLanes)));
+typedef int64_t l8 __attribute__((vector_size(8 * kLanes)));
 
 template <typename V, typename T>
 V load_lanes(const T* p) {
@@ -366,15 +367,21 @@ struct Candidates {
   uint32_t vertex[kBatch][3];
   bool clipped[kBatch];
   // Unclipped ones: snapped positions, pixel bounds, clip coordinates by vertex.
-  int32_t x[kBatch][3], y[kBatch][3];
+  int32_t x[3][kBatch], y[3][kBatch];
   int64_t area[kBatch];
-  int32_t bx[kBatch], by[kBatch];
+  int32_t bx[kBatch], by[kBatch], bw[kBatch], bh[kBatch];  // bounds: first pixel, width and height
   PixelRect bounds[kBatch];
   float cx[3][kBatch], cy[3][kBatch], cz[3][kBatch], cw[3][kBatch];
   // The floating-point work (lanes of d8/f8).
   double det[kBatch];
   float u0[3][kBatch], ux[3][kBatch], uy[3][kBatch];
   float z0[kBatch], zx[kBatch], zy[kBatch];
+  // The piece (lanes of i8/l8): set_edge's edges in the winding det gives,
+  // size classes, and the mask of a tiny one within 2x2 pixels.
+  int32_t a[3][kBatch], b[3][kBatch];
+  int64_t c_num[3][kBatch];
+  int32_t small[kBatch], tiny[kBatch];  // 0 or -1
+  int64_t mask[kBatch];
 };
 
 // det(M) and the interpolation and depth planes of interpolation_planes(),
@@ -423,6 +430,57 @@ void batch_planes(Candidates& c, const SetupParams& params) {
   }
 }
 
+// set_piece for lanes [0, n) (rounded up), in the winding of c.det: the
+// integer edges exactly as set_edge computes them, and the coverage mask of
+// tiny pieces within 2x2 pixels as tiny_coverage finds it.
+void batch_edges(Candidates& c, const SetupParams& params) {
+  const i8 zero = i8{};
+  for (int l = 0; l < c.n; l += kLanes) {
+    const i8 ccw = __builtin_convertvector(load_lanes<d8>(&c.det[l]) > 0.0, i8);  // -1: swap vertices 1 and 2
+    i8 x[3], y[3];
+    x[0] = load_lanes<i8>(&c.x[0][l]);
+    y[0] = load_lanes<i8>(&c.y[0][l]);
+    const i8 x1 = load_lanes<i8>(&c.x[1][l]), x2 = load_lanes<i8>(&c.x[2][l]);
+    const i8 y1 = load_lanes<i8>(&c.y[1][l]), y2 = load_lanes<i8>(&c.y[2][l]);
+    x[1] = (x2 & ccw) | (x1 & ~ccw);
+    x[2] = (x1 & ccw) | (x2 & ~ccw);
+    y[1] = (y2 & ccw) | (y1 & ~ccw);
+    y[2] = (y1 & ccw) | (y2 & ~ccw);
+    const l8 bx = __builtin_convertvector(load_lanes<i8>(&c.bx[l]), l8);
+    const l8 by = __builtin_convertvector(load_lanes<i8>(&c.by[l]), l8);
+    const i8 bw = load_lanes<i8>(&c.bw[l]), bh = load_lanes<i8>(&c.bh[l]);
+    l8 a[3], b[3], edge_c[3];
+    for (int e = 0; e < 3; ++e) {
+      const int i = e, j = (e + 1) % 3;
+      const i8 a32 = y[i] - y[j], b32 = x[j] - x[i];
+      store_lanes(&c.a[e][l], a32);
+      store_lanes(&c.b[e][l], b32);
+      a[e] = __builtin_convertvector(a32, l8);
+      b[e] = __builtin_convertvector(b32, l8);
+      const l8 cc = -(a[e] * __builtin_convertvector(x[i], l8) + b[e] * __builtin_convertvector(y[i], l8));
+      const l8 top_left = (a[e] > 0) | ((a[e] == 0) & (b[e] > 0));  // -1 where true
+      const l8 c_num = int64_t(kSubpixelScale / 2) * (a[e] + b[e]) + cc - 1 - top_left;
+      store_lanes(&c.c_num[e][l], c_num);
+      edge_c[e] = c_num >> kSubpixelBits;
+    }
+    auto lo = [](i8 p, i8 q) { return (p & (p < q)) | (q & ~(p < q)); };
+    auto hi = [](i8 p, i8 q) { return (p & (p > q)) | (q & ~(p > q)); };
+    const i8 small = (hi(hi(x[0], x[1]), x[2]) - lo(lo(x[0], x[1]), x[2]) <= kSmallExtent) &
+                     (hi(hi(y[0], y[1]), y[2]) - lo(lo(y[0], y[1]), y[2]) <= kSmallExtent);
+    const i8 tiny = small & (params.sample_margin == 0 ? ~zero : zero) & (bw <= kTinySize) & (bh <= kTinySize);
+    store_lanes(&c.small[l], small);
+    store_lanes(&c.tiny[l], tiny);
+    l8 mask = l8{};
+    for (int j = 0; j < 2; ++j)
+      for (int i = 0; i < 2; ++i) {
+        l8 in = __builtin_convertvector((bw > i) & (bh > j), l8);
+        for (int e = 0; e < 3; ++e) in &= edge_c[e] + a[e] * (bx + i) + b[e] * (by + j) >= 0;
+        mask |= in & (int64_t(1) << (kTinySize * j + i));
+      }
+    store_lanes(&c.mask[l], mask);
+  }
+}
+
 // The rest of setup_triangle for candidate i (unclipped), in input order.
 void finish_candidate(const Candidates& c, int i, const ProjectedVertex* vertices, const RasterDraw& draw,
                       const SetupParams& params, SetupBatch& out) {
@@ -442,19 +500,26 @@ void finish_candidate(const Candidates& c, int i, const ProjectedVertex* vertice
     ++out.counters.culled;
     return;
   }
-  const int32_t(&xs)[3] = c.x[i];
-  const int32_t(&ys)[3] = c.y[i];
-  const int32_t x[3] = {xs[0], ccw ? xs[2] : xs[1], ccw ? xs[1] : xs[2]};
-  const int32_t y[3] = {ys[0], ccw ? ys[2] : ys[1], ccw ? ys[1] : ys[2]};
   const uint32_t interp_index = uint32_t(out.interps.size());
   TriangleInterp& ti = out.interps.push_uninit();
   ++out.counters.visible;
   ++out.counters.screen;
   ScreenTriangle& t = out.triangles.push_uninit();
   const PixelRect& bounds = c.bounds[i];
-  if (!set_piece(t, x, y, bounds, params)) {  // tiny, covering no pixel centre (see setup_triangle)
-    out.triangles.pop_back();
-    return;
+  for (int e = 0; e < 3; ++e) {
+    t.a[e] = c.a[e][i];
+    t.b[e] = c.b[e][i];
+    t.c_num[e] = c.c_num[e][i];
+  }
+  t.small = c.small[i] != 0;
+  t.tiny = c.tiny[i] != 0;
+  t.mask = 0;
+  if (t.tiny) {
+    t.mask = c.bw[i] <= 2 && c.bh[i] <= 2 ? uint64_t(c.mask[i]) : tiny_coverage(t, bounds);
+    if (t.mask == 0) {  // tiny, covering no pixel centre (see setup_triangle)
+      out.triangles.pop_back();
+      return;
+    }
   }
   for (int k = 0; k < 3; ++k) {
     ti.u0[k] = c.u0[k][i];
@@ -508,27 +573,33 @@ void setup_triangles(const ProjectedVertex* vertices, size_t vertex_count, const
       c.vertex[i][0] = idx[0], c.vertex[i][1] = idx[1], c.vertex[i][2] = idx[2];
       c.clipped[i] = any_out != 0;
       if (any_out != 0) {  // set up on its own below; harmless lanes meanwhile
-        c.bx[i] = c.by[i] = 0;
-        for (int k = 0; k < 3; ++k) c.cx[k][i] = c.cy[k][i] = c.cz[k][i] = c.cw[k][i] = 1.0f;
+        c.bx[i] = c.by[i] = c.bw[i] = c.bh[i] = 0;
+        for (int k = 0; k < 3; ++k) {
+          c.cx[k][i] = c.cy[k][i] = c.cz[k][i] = c.cw[k][i] = 1.0f;
+          c.x[k][i] = c.y[k][i] = 0;
+        }
       } else {
         const int64_t area = (int64_t(v1.x) - v0.x) * (int64_t(v2.y) - v0.y) - (int64_t(v2.x) - v0.x) * (int64_t(v1.y) - v0.y);
         if (cull_back && (area == 0 || (area < 0) == draw.mirrored)) {
           ++out.counters.culled;
           continue;
         }
-        int32_t(&x)[3] = c.x[i];
-        int32_t(&y)[3] = c.y[i];
-        x[0] = v0.x, x[1] = v1.x, x[2] = v2.x;
-        y[0] = v0.y, y[1] = v1.y, y[2] = v2.y;
+        const int32_t x[3] = {v0.x, v1.x, v2.x}, y[3] = {v0.y, v1.y, v2.y};
         const PixelRect r = pixel_bounds(x, y, 3, params);
         if (r.empty()) {
           ++out.counters.culled;
           continue;
         }
+        for (int k = 0; k < 3; ++k) {
+          c.x[k][i] = x[k];
+          c.y[k][i] = y[k];
+        }
         c.area[i] = area;
         c.bounds[i] = r;
         c.bx[i] = r.x0;
         c.by[i] = r.y0;
+        c.bw[i] = r.x1 - r.x0 + 1;
+        c.bh[i] = r.y1 - r.y0 + 1;
         const ProjectedVertex* v[3] = {&v0, &v1, &v2};
         for (int k = 0; k < 3; ++k) {
           c.cx[k][i] = v[k]->clip.x;
@@ -541,10 +612,14 @@ void setup_triangles(const ProjectedVertex* vertices, size_t vertex_count, const
     }
     // Lanes past the last candidate: harmless values (their results are not read).
     for (int i = c.n; i < (c.n + kLanes - 1) / kLanes * kLanes; ++i) {
-      c.bx[i] = c.by[i] = 0;
-      for (int k = 0; k < 3; ++k) c.cx[k][i] = c.cy[k][i] = c.cz[k][i] = c.cw[k][i] = 1.0f;
+      c.bx[i] = c.by[i] = c.bw[i] = c.bh[i] = 0;
+      for (int k = 0; k < 3; ++k) {
+        c.cx[k][i] = c.cy[k][i] = c.cz[k][i] = c.cw[k][i] = 1.0f;
+        c.x[k][i] = c.y[k][i] = 0;
+      }
     }
     batch_planes(c, params);
+    batch_edges(c, params);
     for (int i = 0; i < c.n; ++i) {
       if (!c.clipped[i]) {
         finish_candidate(c, i, vertices, draw, params, out);
