@@ -56,11 +56,14 @@ void TiledRasterizer::build(JobSystem& jobs, GeometrySet set, std::span<const Ra
 
   g.vertices.resize(vertex_count);
   jobs.parallel_for("vertex", vertex_count, kVertexGrain, [&](size_t begin, size_t end) {
+    // The chunk's part of each draw it overlaps.
     size_t d = size_t(std::upper_bound(g.vertex_begin.begin(), g.vertex_begin.end(), begin) - g.vertex_begin.begin()) - 1;
-    for (size_t v = begin; v < end; ++v) {
-      while (v >= g.vertex_begin[d + 1]) ++d;
-      const glm::vec3& p = draws[d].primitive->positions[v - g.vertex_begin[d]];
-      g.vertices[v] = project_vertex(draws[d].model_to_clip * glm::vec4(p, 1.0f), params);
+    for (size_t v = begin; v < end; ++d) {
+      const size_t draw_end = std::min<size_t>(end, g.vertex_begin[d + 1]);
+      if (draw_end == v) continue;  // a draw without vertices
+      project_vertices(&draws[d].primitive->positions[v - g.vertex_begin[d]], draw_end - v, draws[d].model_to_clip,
+                       params, &g.vertices[v]);
+      v = draw_end;
     }
   });
 

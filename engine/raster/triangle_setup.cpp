@@ -633,4 +633,63 @@ void setup_triangles(const ProjectedVertex* vertices, size_t vertex_count, const
   }
 }
 
+void project_vertices(const glm::vec3* positions, size_t count, const glm::mat4& m, const SetupParams& params,
+                      ProjectedVertex* out) {
+  const d8 half_width = d8{} + 0.5 * params.width, half_height = d8{} + 0.5 * params.height;
+  const d8 gx = d8{} + params.band.gx, gy = d8{} + params.band.gy;
+  const f8 one = f8{} + 1.0f;
+  size_t i = 0;
+  for (; i + kLanes <= count; i += kLanes) {
+    float px[kLanes], py[kLanes], pz[kLanes];
+    for (int l = 0; l < kLanes; ++l) {
+      px[l] = positions[i + l].x;
+      py[l] = positions[i + l].y;
+      pz[l] = positions[i + l].z;
+    }
+    const f8 x = load_lanes<f8>(px), y = load_lanes<f8>(py), z = load_lanes<f8>(pz);
+    // glm's mat4 * vec4: (m[0] x + m[1] y) + (m[2] z + m[3] w), w = 1.
+    f8 clip[4];
+    for (int k = 0; k < 4; ++k)
+      clip[k] = (m[0][k] * x + m[1][k] * y) + (m[2][k] * z + m[3][k] * one);
+    // Finite: |v| <= FLT_MAX (false for NaN and infinities).
+    i8 finite = ~i8{};
+    for (int k = 0; k < 4; ++k) finite &= (clip[k] <= 3.40282347e+38f) & (clip[k] >= -3.40282347e+38f);
+    const d8 qx = __builtin_convertvector(clip[0], d8), qy = __builtin_convertvector(clip[1], d8);
+    const d8 qz = __builtin_convertvector(clip[2], d8), qw = __builtin_convertvector(clip[3], d8);
+    // clip_outcode: bit p where plane p's distance is negative.
+    const l8 code = ((qw - qz < 0.0) & 1) | ((qz < 0.0) & 2) | ((gx * qw - qx < 0.0) & 4) | ((gx * qw + qx < 0.0) & 8) |
+                    ((gy * qw - qy < 0.0) & 16) | ((gy * qw + qy < 0.0) & 32);
+    const i8 outcode = (__builtin_convertvector(code, i8) & finite) | (int32_t(kNotFinite) & ~finite);
+    // snap(): where the vertex is inside every plane (other lanes: 0, as project_vertex leaves them).
+    const l8 inside = __builtin_convertvector(outcode == 0, l8);
+    const d8 inv_w = 1.0 / qw;
+    const d8 sx = (qx * inv_w + 1.0) * half_width, sy = (1.0 - qy * inv_w) * half_height;
+    const d8 fx = sx * double(kSubpixelScale), fy = sy * double(kSubpixelScale);
+    // round_to_int: halves away from zero, then truncation.
+    d8 rx = fx >= 0.0 ? fx + 0.5 : fx - 0.5, ry = fy >= 0.0 ? fy + 0.5 : fy - 0.5;
+    rx = inside ? rx : 0.0;
+    ry = inside ? ry : 0.0;
+    const d8 nz = inside ? qz * inv_w : 0.0;
+    int32_t ox[kLanes], oy[kLanes], oc[kLanes];
+    float oz[kLanes], cx[kLanes], cy[kLanes], cz[kLanes], cw[kLanes];
+    store_lanes(ox, __builtin_convertvector(rx, i8));
+    store_lanes(oy, __builtin_convertvector(ry, i8));
+    store_lanes(oc, outcode);
+    store_lanes(oz, __builtin_convertvector(nz, f8));
+    store_lanes(cx, clip[0]);
+    store_lanes(cy, clip[1]);
+    store_lanes(cz, clip[2]);
+    store_lanes(cw, clip[3]);
+    for (int l = 0; l < kLanes; ++l) {
+      ProjectedVertex& v = out[i + l];
+      v.clip = glm::vec4(cx[l], cy[l], cz[l], cw[l]);
+      v.x = ox[l];
+      v.y = oy[l];
+      v.z = oz[l];
+      v.outcode = uint32_t(oc[l]);
+    }
+  }
+  for (; i < count; ++i) out[i] = project_vertex(m * glm::vec4(positions[i], 1.0f), params);
+}
+
 }  // namespace cr

@@ -149,6 +149,11 @@ struct ProjectedVertex {
 
 ProjectedVertex project_vertex(const glm::vec4& clip, const SetupParams& params);
 
+// project_vertex(model_to_clip * vec4(positions[i], 1)) into out[i] for i < count, eight
+// at a time (lane-wise, the same IEEE operations as glm and project_vertex).
+void project_vertices(const glm::vec3* positions, size_t count, const glm::mat4& model_to_clip,
+                      const SetupParams& params, ProjectedVertex* out);
+
 struct SetupCounters {
   uint64_t in = 0, culled = 0, clipped = 0, visible = 0, screen = 0;
 };
