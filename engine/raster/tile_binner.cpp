@@ -29,7 +29,7 @@ namespace {
 
 // Calls fn(tile) for each tile that triangle i may cover, in row-major order.
 template <typename Fn>
-void for_each_tile(const SetupBatch& setup, uint32_t i, const TileGrid& grid, Fn&& fn) {
+void for_each_tile(const SetupBatch& setup, uint32_t i, const TileGrid& grid, int32_t margin, Fn&& fn) {
   const PixelRect& r = setup.bounds[i];
   const int tx0 = r.x0 >> grid.tile_shift, tx1 = r.x1 >> grid.tile_shift;
   const int ty0 = r.y0 >> grid.tile_shift, ty1 = r.y1 >> grid.tile_shift;
@@ -38,25 +38,28 @@ void for_each_tile(const SetupBatch& setup, uint32_t i, const TileGrid& grid, Fn
     return;
   }
   // Spanning several tiles: skip tiles of the bounding box the triangle misses
-  // (long diagonal slivers), testing its edges at the tile's extreme pixels.
+  // (long diagonal slivers), testing its edges at the tile's extreme pixels,
+  // or a tiny triangle's covered pixels.
+  const ScreenTriangle& t = setup.triangles[i];
   for (int ty = ty0; ty <= ty1; ++ty)
     for (int tx = tx0; tx <= tx1; ++tx) {
       const int tile = ty * grid.tiles_x + tx;
-      if (may_cover(setup.triangles[i], intersect(r, grid.tile_rect(tile)))) fn(tile);
+      const PixelRect part = intersect(r, grid.tile_rect(tile));
+      if (t.tiny ? tiny_mask_within(t.mask, r, part) != 0 : may_cover(t, part, margin)) fn(tile);
     }
 }
 
 }  // namespace
 
-void bin_triangles(const SetupBatch& setup, const TileGrid& grid, TileBins& bins) {
+void bin_triangles(const SetupBatch& setup, const TileGrid& grid, int32_t sample_margin, TileBins& bins) {
   const uint32_t n = uint32_t(setup.triangles.size());
   // Counting sort by tile: count, prefix sums, then scatter in triangle order
   // (begin[t + 1] serves as tile t's cursor and ends at its final value).
   bins.begin.assign(size_t(grid.tile_count()) + 2, 0);
-  for (uint32_t i = 0; i < n; ++i) for_each_tile(setup, i, grid, [&](int tile) { ++bins.begin[tile + 2]; });
+  for (uint32_t i = 0; i < n; ++i) for_each_tile(setup, i, grid, sample_margin, [&](int tile) { ++bins.begin[tile + 2]; });
   for (int t = 0; t < grid.tile_count(); ++t) bins.begin[t + 2] += bins.begin[t + 1];
   bins.items.resize(bins.begin[grid.tile_count() + 1]);
-  for (uint32_t i = 0; i < n; ++i) for_each_tile(setup, i, grid, [&](int tile) { bins.items[bins.begin[tile + 1]++] = i; });
+  for (uint32_t i = 0; i < n; ++i) for_each_tile(setup, i, grid, sample_margin, [&](int tile) { bins.items[bins.begin[tile + 1]++] = i; });
   bins.begin.pop_back();
 }
 

@@ -36,6 +36,7 @@ struct GeometryChunk {
   TileBins bins;
 };
 
-void bin_triangles(const SetupBatch& setup, const TileGrid& grid, TileBins& bins);
+// sample_margin: the setup's (SetupParams::sample_margin).
+void bin_triangles(const SetupBatch& setup, const TileGrid& grid, int32_t sample_margin, TileBins& bins);
 
 }  // namespace cr

@@ -1,10 +1,11 @@
 #include "engine/raster/tile_raster.h"
 
-#include <emmintrin.h>
+#include "engine/raster/span8.h"
 
 #include <algorithm>
 #include <array>
 #include <bit>
+#include <climits>
 #include <cstring>
 #include <deque>
 #include <vector>
@@ -13,17 +14,12 @@ namespace cr {
 
 namespace {
 
+using namespace span8;
+
 constexpr int kBlock = 8;
 // Tile-local rows are padded by one 8-pixel span so a span starting at any
 // column of the tile can be loaded and stored whole.
 constexpr int kRowPadding = kBlock;
-
-// Set bits of an 8-bit span mask (the SSE2 baseline has no popcnt instruction).
-constexpr auto kBitCount = [] {
-  std::array<uint8_t, 256> t{};
-  for (int i = 1; i < 256; ++i) t[i] = uint8_t((i & 1) + t[i >> 1]);
-  return t;
-}();
 
 struct TileScratch {
   std::vector<float> depth;
@@ -53,10 +49,15 @@ thread_local std::deque<TileScratch> ScratchLease::pool_;
 thread_local size_t ScratchLease::depth_ = 0;
 
 struct TileContext {
-  float* depth;
+  float* depth;    // at the tile's origin (x0, y0)
   uint32_t* ids;
   int stride;
   int x0, y0;  // tile origin in the image
+  // Largest first column of an 8-pixel span. Written straight into the
+  // image, a span must stay within the tile: one that would start further
+  // right starts here instead (its columns masked). A padded tile buffer
+  // takes any span (INT_MAX).
+  int span_end;
   const TileTarget* target;
   TileStats* stats;
   float sample_dx = 0.0f, sample_dy = 0.0f;  // the sample's offset from the pixel centre (alpha-mask coverage)
@@ -66,16 +67,10 @@ struct TileContext {
   uint8_t sample_bit = 0;
 };
 
-int mask_of(__m128i lo, __m128i hi) {
-  return _mm_movemask_ps(_mm_castsi128_ps(lo)) | (_mm_movemask_ps(_mm_castsi128_ps(hi)) << 4);
-}
-
-__m128i select(__m128i mask, __m128i a, __m128i b) {
-  return _mm_or_si128(_mm_and_si128(mask, a), _mm_andnot_si128(mask, b));
-}
-
-__m128 select(__m128 mask, __m128 a, __m128 b) {
-  return _mm_or_ps(_mm_and_ps(mask, a), _mm_andnot_ps(mask, b));
+// Lanes x .. x1 of a span starting at column xs (x >= xs).
+unsigned span_columns(int xs, int x, int x1) {
+  const int last = x1 - xs < kBlock - 1 ? x1 - xs : kBlock - 1;
+  return ((2u << last) - 1) & ~((1u << (x - xs)) - 1);
 }
 
 // What one triangle needs while walking its pixels.
@@ -83,161 +78,138 @@ struct TriangleWalk {
   const ScreenTriangle& t;
   const TriangleInterp& interp;
   const TileContext& ctx;
-  __m128i astep_lo[3], astep_hi[3];  // a * lane for lanes 0..7 of a span
-  __m128 z0, zx, zmin, zmax;
-  __m128i id;
+  F z0, zx, zmin, zmax;
+  I id;
   uint64_t covered = 0, passed = 0;
 
-  TriangleWalk(const ScreenTriangle& tri, const TriangleInterp& ti, const TileContext& c) : t(tri), interp(ti), ctx(c) {
-    for (int e = 0; e < 3; ++e) {
-      const int32_t a = t.a[e];
-      astep_lo[e] = _mm_setr_epi32(0, a, 2 * a, 3 * a);
-      astep_hi[e] = _mm_setr_epi32(4 * a, 5 * a, 6 * a, 7 * a);
-    }
-    z0 = _mm_set1_ps(t.z0);
-    zx = _mm_set1_ps(t.zx);
-    zmin = _mm_set1_ps(t.z_min);
-    zmax = _mm_set1_ps(t.z_max);
-    id = _mm_set1_epi32(int32_t(t.id));
-  }
+  TriangleWalk(const ScreenTriangle& tri, const TriangleInterp& ti, const TileContext& c)
+      : t(tri), interp(ti), ctx(c), z0(fset1(t.z0)), zx(fset1(t.zx)), zmin(fset1(t.z_min)), zmax(fset1(t.z_max)),
+        id(iset1(int32_t(t.id))) {}
 
-  // Coverage of the 8-pixel span starting at column x from the edge values
-  // f[k] at x of the edges live[0..n-1], limited to the first `width` lanes.
-  void coverage(const int32_t* f, const int* live, int n, __m128i cols_lo, __m128i cols_hi, __m128i& cov_lo,
-                __m128i& cov_hi) const {
-    __m128i any_lo = _mm_setzero_si128(), any_hi = _mm_setzero_si128();
-    for (int k = 0; k < n; ++k) {
-      const __m128i base = _mm_set1_epi32(f[k]);
-      any_lo = _mm_or_si128(any_lo, _mm_add_epi32(base, astep_lo[live[k]]));
-      any_hi = _mm_or_si128(any_hi, _mm_add_epi32(base, astep_hi[live[k]]));
-    }
-    // Covered where no edge value is negative (sign bit of the OR clear).
-    cov_lo = _mm_andnot_si128(_mm_srai_epi32(any_lo, 31), cols_lo);
-    cov_hi = _mm_andnot_si128(_mm_srai_epi32(any_hi, 31), cols_hi);
-  }
-
-  // Depth test and output of the covered samples of the span at (x, y).
+  // Depth test and output of the covered samples (lanes of `cov`) of the
+  // span of 8 pixels starting at (x, y).
   template <TileMode Mode>
-  void shade(int x, int y, __m128i cov_lo, __m128i cov_hi) {
-    const int cov = mask_of(cov_lo, cov_hi);
-    if (!cov) return;
-    covered += kBitCount[cov];
+  void shade(int x, int y, I cov) {
+    const unsigned cov_bits = bits(cov);
+    if (!cov_bits) return;
+    covered += unsigned(std::popcount(cov_bits));
     float* zrow = ctx.depth + size_t(y - ctx.y0) * ctx.stride + (x - ctx.x0);
-    const __m128i fx = _mm_set1_epi32(x - t.ref_x);
-    const __m128 zyfy = _mm_set1_ps(t.zy * float(y - t.ref_y));
-    const __m128 zxfx_lo = _mm_mul_ps(zx, _mm_cvtepi32_ps(_mm_add_epi32(fx, _mm_setr_epi32(0, 1, 2, 3))));
-    const __m128 zxfx_hi = _mm_mul_ps(zx, _mm_cvtepi32_ps(_mm_add_epi32(fx, _mm_setr_epi32(4, 5, 6, 7))));
-    const __m128 z_lo = _mm_min_ps(_mm_max_ps(_mm_add_ps(z0, _mm_add_ps(zxfx_lo, zyfy)), zmin), zmax);
-    const __m128 z_hi = _mm_min_ps(_mm_max_ps(_mm_add_ps(z0, _mm_add_ps(zxfx_hi, zyfy)), zmin), zmax);
-    const __m128 zb_lo = _mm_loadu_ps(zrow), zb_hi = _mm_loadu_ps(zrow + 4);
-    __m128i pass_lo = _mm_and_si128(_mm_castps_si128(_mm_cmpgt_ps(z_lo, zb_lo)), cov_lo);
-    __m128i pass_hi = _mm_and_si128(_mm_castps_si128(_mm_cmpgt_ps(z_hi, zb_hi)), cov_hi);
-    int pass = mask_of(pass_lo, pass_hi);
-    if (!pass) return;
+    const F zxfx = zx * to_float(iset1(x - t.ref_x) + lanes());
+    const F zyfy = fset1(t.zy * float(y - t.ref_y));
+    const F z = min(max(z0 + (zxfx + zyfy), zmin), zmax);
+    I pass = greater(z, load(zrow)) & cov;
+    unsigned pass_bits = bits(pass);
+    if (!pass_bits) return;
 
     const float py = float(y) + 0.5f + ctx.sample_dy;
     if constexpr (Mode == TileMode::Blended) {
-      passed += kBitCount[pass];
+      passed += unsigned(std::popcount(pass_bits));
       if (ctx.covered) {
         uint8_t* row = ctx.covered + size_t(y - ctx.y0) * ctx.stride + (x - ctx.x0);
-        for (int bits = pass; bits; bits &= bits - 1) row[std::countr_zero(unsigned(bits))] |= ctx.sample_bit;
+        for (unsigned b = pass_bits; b; b &= b - 1) row[std::countr_zero(b)] |= ctx.sample_bit;
         return;
       }
-      for (int bits = pass; bits; bits &= bits - 1) {
-        const int px = x + std::countr_zero(unsigned(bits));
+      for (unsigned b = pass_bits; b; b &= b - 1) {
+        const int px = x + std::countr_zero(b);
         (*ctx.target->fragment)(px, y, t.id, interpolate(interp, float(px) + 0.5f, py), 1.0f);
       }
     } else {
       if (t.alpha_mask) {
-        for (int bits = pass; bits; bits &= bits - 1) {
-          const int lane = std::countr_zero(unsigned(bits));
+        for (unsigned b = pass_bits; b; b &= b - 1) {
+          const int lane = std::countr_zero(b);
           if (!(*ctx.target->coverage)(t.id, interpolate(interp, float(x + lane) + 0.5f + ctx.sample_dx, py)))
-            pass &= ~(1 << lane);
+            pass_bits &= ~(1u << lane);
         }
-        if (!pass) return;
-        const __m128i p = _mm_set1_epi32(pass);
-        const __m128i bit_lo = _mm_setr_epi32(1, 2, 4, 8), bit_hi = _mm_setr_epi32(16, 32, 64, 128);
-        pass_lo = _mm_cmpeq_epi32(_mm_and_si128(p, bit_lo), bit_lo);
-        pass_hi = _mm_cmpeq_epi32(_mm_and_si128(p, bit_hi), bit_hi);
+        if (!pass_bits) return;
+        pass = from_bits(pass_bits);
       }
-      passed += kBitCount[pass];
-      _mm_storeu_ps(zrow, select(_mm_castsi128_ps(pass_lo), z_lo, zb_lo));
-      _mm_storeu_ps(zrow + 4, select(_mm_castsi128_ps(pass_hi), z_hi, zb_hi));
-      if constexpr (Mode == TileMode::Visibility) {
-        uint32_t* irow = ctx.ids + size_t(y - ctx.y0) * ctx.stride + (x - ctx.x0);
-        const __m128i ib_lo = _mm_loadu_si128(reinterpret_cast<const __m128i*>(irow));
-        const __m128i ib_hi = _mm_loadu_si128(reinterpret_cast<const __m128i*>(irow + 4));
-        _mm_storeu_si128(reinterpret_cast<__m128i*>(irow), select(pass_lo, id, ib_lo));
-        _mm_storeu_si128(reinterpret_cast<__m128i*>(irow + 4), select(pass_hi, id, ib_hi));
-      }
+      passed += unsigned(std::popcount(pass_bits));
+      store(zrow, z, pass, pass_bits);
+      if constexpr (Mode == TileMode::Visibility)
+        store(ctx.ids + size_t(y - ctx.y0) * ctx.stride + (x - ctx.x0), id, pass, pass_bits);
     }
   }
 };
 
-// Lanes 0..width-1 of a span.
-void span_columns(int width, __m128i& lo, __m128i& hi) {
-  const __m128i w = _mm_set1_epi32(width);
-  lo = _mm_cmplt_epi32(_mm_setr_epi32(0, 1, 2, 3), w);
-  hi = _mm_cmplt_epi32(_mm_setr_epi32(4, 5, 6, 7), w);
+// A tiny triangle: its covered pixels are known (ScreenTriangle::mask), one
+// span per row of its bounds b, here limited to r.
+template <TileMode Mode>
+void walk_tiny(TriangleWalk& w, const PixelRect& b, const PixelRect& r) {
+  const uint64_t mask = w.t.mask;
+  const int shift = r.x0 - b.x0;
+  const unsigned cols = (2u << (r.x1 - r.x0)) - 1;
+  const int xs = std::min(r.x0, w.ctx.span_end);
+  for (int y = r.y0; y <= r.y1; ++y) {
+    const unsigned row = unsigned(mask >> (kTinySize * (y - b.y0) + shift)) & cols;
+    if (row) w.template shade<Mode>(xs, y, from_bits(row << (r.x0 - xs)));
+  }
 }
 
-// A small triangle: all edge values over its box fit in int32, so its rows
-// are scanned directly, 8 pixels at a time.
+// A small triangle: all edge values over its box (and 7 pixels either side)
+// fit in int32, so its rows are scanned directly, 8 pixels at a time.
 template <TileMode Mode>
 void walk_small(TriangleWalk& w, const PixelRect& r) {
   const ScreenTriangle& t = w.t;
-  const int live[3] = {0, 1, 2};
+  const I astep[3] = {steps(t.a[0]), steps(t.a[1]), steps(t.a[2])};
   int32_t row[3];
-  for (int e = 0; e < 3; ++e) row[e] = int32_t(t.c[e] + int64_t(t.a[e]) * r.x0 + int64_t(t.b[e]) * r.y0);
-  // Column masks: full spans, then the last span of each row.
-  const __m128i all = _mm_set1_epi32(-1);
-  __m128i last_lo, last_hi;
-  span_columns((r.x1 - r.x0) % kBlock + 1, last_lo, last_hi);
+  for (int e = 0; e < 3; ++e) row[e] = int32_t(t.c(e) + int64_t(t.a[e]) * r.x0 + int64_t(t.b[e]) * r.y0);
+  // The last span of each row: where it starts and its columns.
+  const int last_x = r.x0 + (r.x1 - r.x0) / kBlock * kBlock;
+  const int last_xs = std::min(last_x, w.ctx.span_end);
+  const I last_cols = from_bits(span_columns(last_xs, last_x, r.x1));
+  const I all = iset1(-1);
   for (int y = r.y0; y <= r.y1; ++y) {
     int32_t f[3] = {row[0], row[1], row[2]};
-    for (int x = r.x0; x <= r.x1; x += kBlock) {
-      const bool last = x + kBlock > r.x1;
-      __m128i cov_lo, cov_hi;
-      w.coverage(f, live, 3, last ? last_lo : all, last ? last_hi : all, cov_lo, cov_hi);
-      w.template shade<Mode>(x, y, cov_lo, cov_hi);
+    for (int x = r.x0; x < last_x; x += kBlock) {
+      const I any = (iset1(f[0]) + astep[0]) | (iset1(f[1]) + astep[1]) | (iset1(f[2]) + astep[2]);
+      w.template shade<Mode>(x, y, andnot(sign(any), all));  // covered where no edge value is negative
       for (int e = 0; e < 3; ++e) f[e] += kBlock * t.a[e];
     }
+    const int d = last_x - last_xs;
+    const I any = (iset1(f[0] - d * t.a[0]) + astep[0]) | (iset1(f[1] - d * t.a[1]) + astep[1]) |
+                  (iset1(f[2] - d * t.a[2]) + astep[2]);
+    w.template shade<Mode>(last_xs, y, andnot(sign(any), last_cols));
     for (int e = 0; e < 3; ++e) row[e] += t.b[e];
   }
 }
 
 // A large triangle: 8x8 blocks, each classifying the edges in int64 at its
-// corners; rejected blocks are skipped and only crossing edges are evaluated,
-// in int32 (a crossing edge has |value| <= 7(|a| + |b|) < 2^28 in the block).
+// corners; rejected blocks are skipped, edges that contain the whole block
+// are dropped (a block inside all three needs no edge test at all), and only
+// crossing edges are evaluated, in int32 (a crossing edge has
+// |value| <= 7(|a| + |b|) < 2^28 in the block, 7 |a| more where the span is
+// moved left to stay in the tile).
 template <TileMode Mode>
 void walk_blocks(TriangleWalk& w, const PixelRect& r) {
   const ScreenTriangle& t = w.t;
+  const I astep[3] = {steps(t.a[0]), steps(t.a[1]), steps(t.a[2])};
   for (int by = r.y0; by <= r.y1; by += kBlock) {
     const int bh = std::min(kBlock, r.y1 - by + 1);
     for (int bx = r.x0; bx <= r.x1; bx += kBlock) {
       const int bw = std::min(kBlock, r.x1 - bx + 1);
+      const int xs = std::min(bx, w.ctx.span_end);
       int32_t f[3], b[3];
-      int live[3];
+      I step[3];
       int n = 0;
       bool rejected = false;
       for (int e = 0; e < 3; ++e) {
-        const int64_t fe = t.c[e] + int64_t(t.a[e]) * bx + int64_t(t.b[e]) * by;
+        const int64_t fe = t.c(e) + int64_t(t.a[e]) * bx + int64_t(t.b[e]) * by;
         const int64_t dx = int64_t(t.a[e]) * (bw - 1), dy = int64_t(t.b[e]) * (bh - 1);
         if (fe + std::max<int64_t>(dx, 0) + std::max<int64_t>(dy, 0) < 0) {
           rejected = true;
           break;
         }
         if (fe + std::min<int64_t>(dx, 0) + std::min<int64_t>(dy, 0) >= 0) continue;  // whole block inside
-        f[n] = int32_t(fe);
+        f[n] = int32_t(fe - int64_t(t.a[e]) * (bx - xs));
         b[n] = t.b[e];
-        live[n++] = e;
+        step[n++] = astep[e];
       }
       if (rejected) continue;
-      __m128i cols_lo, cols_hi, cov_lo, cov_hi;
-      span_columns(bw, cols_lo, cols_hi);
+      const I cols = from_bits(span_columns(xs, bx, bx + bw - 1));
       for (int j = 0; j < bh; ++j) {
-        w.coverage(f, live, n, cols_lo, cols_hi, cov_lo, cov_hi);
-        w.template shade<Mode>(bx, by + j, cov_lo, cov_hi);
+        I any = iset1(0);
+        for (int k = 0; k < n; ++k) any = any | (iset1(f[k]) + step[k]);
+        w.template shade<Mode>(xs, by + j, andnot(sign(any), cols));
         for (int k = 0; k < n; ++k) f[k] += b[k];
       }
     }
@@ -245,8 +217,10 @@ void walk_blocks(TriangleWalk& w, const PixelRect& r) {
 }
 
 template <TileMode Mode>
-void walk(TriangleWalk& w, const PixelRect& r) {
-  if (w.t.small)
+void walk(TriangleWalk& w, const PixelRect& b, const PixelRect& r) {
+  if (w.t.tiny)
+    walk_tiny<Mode>(w, b, r);
+  else if (w.t.small)
     walk_small<Mode>(w, r);
   else
     walk_blocks<Mode>(w, r);
@@ -259,7 +233,7 @@ void walk(TriangleWalk& w, const PixelRect& r) {
 ScreenTriangle at_sample(const ScreenTriangle& t, const SamplePattern& pattern, int s) {
   ScreenTriangle ts = t;
   const int64_t dx = pattern.dx_subpixels(s), dy = pattern.dy_subpixels(s);
-  for (int e = 0; e < 3; ++e) ts.c[e] = (t.c_num[e] + t.a[e] * dx + t.b[e] * dy) >> kSubpixelBits;
+  for (int e = 0; e < 3; ++e) ts.c_num[e] = t.c_num[e] + t.a[e] * dx + t.b[e] * dy;  // c(e): the same shift
   ts.z0 = t.z0 + (t.zx * pattern.dx(s) + t.zy * pattern.dy(s));
   return ts;
 }
@@ -341,11 +315,12 @@ void raster_triangles(const PixelRect& tile_rect, std::span<const GeometryChunk>
     for (uint32_t i = chunk.bins.begin[tile]; i < end; ++i) {
       const uint32_t k = chunk.bins.items[i];
       const ScreenTriangle& t = setup.triangles[k];
-      const PixelRect r = intersect(setup.bounds[k], tile_rect);
+      const PixelRect& b = setup.bounds[k];
+      const PixelRect r = intersect(b, tile_rect);
       ctx.stats->triangles += 1;
       if (pattern.count == 1) {
         TriangleWalk w(t, setup.interps[t.interp], ctx);
-        walk<Mode>(w, r);
+        walk<Mode>(w, b, r);
         continue;
       }
       for (int s = 0; s < pattern.count; ++s) {
@@ -360,7 +335,7 @@ void raster_triangles(const PixelRect& tile_rect, std::span<const GeometryChunk>
         sample_ctx.sample_dx = pattern.dx(s);
         sample_ctx.sample_dy = pattern.dy(s);
         TriangleWalk w(ts, setup.interps[t.interp], sample_ctx);
-        walk<Mode>(w, r);
+        walk<Mode>(w, b, r);
       }
       if constexpr (Mode == TileMode::Blended) deliver_coverage(t, setup.interps[t.interp], r, ctx);
     }
@@ -387,10 +362,40 @@ void raster_tile(int tile, const TileGrid& grid, std::span<const GeometryChunk> 
     if (target.mixed) target.mixed->clear();
     return;
   }
-  const ScratchLease lease;
-  TileScratch& scratch = *lease;
   const PixelRect rect = grid.tile_rect(tile);
   const int w = rect.x1 - rect.x0 + 1, h = rect.y1 - rect.y0 + 1;
+  stats = {};
+  // One sample per pixel and a tile at least a span wide: straight into the
+  // image (cleared here, while the tile's rows are brought into cache).
+  if (target.pattern.count == 1 && w >= kBlock) {
+    const size_t origin = size_t(rect.y0) * target.stride + size_t(rect.x0);
+    // Blended: the opaque depth, only read.
+    float* depth = target.mode == TileMode::Blended ? const_cast<float*>(target.opaque_depth) : target.depth;
+    TileContext ctx{depth + origin, target.ids ? target.ids + origin : nullptr, target.stride, rect.x0, rect.y0,
+                    rect.x1 - (kBlock - 1), &target, &stats};
+    switch (target.mode) {
+      case TileMode::Visibility:
+        for (int y = 0; y < h; ++y) {
+          std::fill_n(ctx.depth + size_t(y) * target.stride, w, 0.0f);  // reversed-Z: 0 is infinitely far
+          std::fill_n(ctx.ids + size_t(y) * target.stride, w, kNoTriangle);
+        }
+        raster_triangles<TileMode::Visibility>(rect, chunks, tile, ctx, 0);
+        break;
+      case TileMode::Depth:
+        for (int y = 0; y < h; ++y) std::fill_n(ctx.depth + size_t(y) * target.stride, w, 0.0f);
+        raster_triangles<TileMode::Depth>(rect, chunks, tile, ctx, 0);
+        break;
+      case TileMode::Blended:
+        raster_triangles<TileMode::Blended>(rect, chunks, tile, ctx, 0);
+        break;
+    }
+    if (target.mixed) target.mixed->clear();
+    return;
+  }
+
+  // Otherwise a tile buffer with padded rows, one layer per sample.
+  const ScratchLease lease;
+  TileScratch& scratch = *lease;
   const int stride = grid.tile_size + kRowPadding;
   const size_t layer = size_t(stride) * grid.tile_size;
   const int samples = target.mode == TileMode::Visibility ? target.pattern.count : 1;
@@ -410,8 +415,7 @@ void raster_tile(int tile, const TileGrid& grid, std::span<const GeometryChunk> 
     std::fill_n(scratch.ids.begin(), size, kNoTriangle);
   }
 
-  stats = {};
-  TileContext ctx{scratch.depth.data(), scratch.ids.data(), stride, rect.x0, rect.y0, &target, &stats};
+  TileContext ctx{scratch.depth.data(), scratch.ids.data(), stride, rect.x0, rect.y0, INT_MAX, &target, &stats};
   if (target.mode == TileMode::Blended && target.pattern.count > 1) ctx.covered = scratch.covered.data();
   switch (target.mode) {
     case TileMode::Visibility: raster_triangles<TileMode::Visibility>(rect, chunks, tile, ctx, layer); break;

@@ -1,13 +1,23 @@
 #pragma once
 // Rasterisation of one screen tile: every triangle binned to the tile, in
-// submission order, into a tile-local buffer that is copied out at the end
-// (one job per tile, so every output pixel has exactly one writer).
+// submission order (one job per tile, so every output pixel has exactly one
+// writer).
 //
+// A tiny triangle (one sample per pixel, pixel bounds within 8x8) had its
+// covered pixel centres found at setup (ScreenTriangle::mask; one that covers
+// none was not emitted), so only its depth is evaluated, one span per row.
 // A small triangle (vertex extent <= 64 pixels, the common case) has all its
 // edge values in int32 and is scanned row by row over its box, 8 pixels per
-// SSE2 span. A larger one is walked in 8x8 blocks, each classifying the edges
-// in int64 at its corners: an edge that excludes the block rejects it, one
-// that includes it is dropped, and only crossing edges are evaluated per pixel.
+// span (span8.h: one AVX2 register, or two SSE2). A larger one is walked in
+// 8x8 blocks, each classifying the edges in int64 at its corners: an edge
+// that excludes the block rejects it, one that includes it is dropped (a
+// block inside all three is filled without edge tests), and only crossing
+// edges are evaluated per pixel.
+// With one sample per pixel a tile is cleared and rasterised in place in the
+// image; a span that would cross the tile's right edge is moved left to end
+// there, its extra columns masked, so a job never touches another tile's
+// pixels. Tiles narrower than a span and multisampled ones use a tile
+// buffer with padded rows instead (one layer per sample).
 // Depth is float reversed-Z with an early GREATER test; alpha-mask coverage
 // is asked only for samples that pass it. Everything a pixel sees is a pure
 // function of the pixel and the triangle, so results do not depend on the

@@ -51,14 +51,19 @@ void TiledRasterizer::build(JobSystem& jobs, GeometrySet set, std::span<const Ra
   params.band = GuardBand::for_image(grid.width, grid.height, kGuardBandPixels);
   params.cull = cull;
   params.sample_margin = sample_margin;
+  params.sx = 2.0 / params.width;
+  params.sy = -2.0 / params.height;
 
   g.vertices.resize(vertex_count);
   jobs.parallel_for("vertex", vertex_count, kVertexGrain, [&](size_t begin, size_t end) {
+    // The chunk's part of each draw it overlaps.
     size_t d = size_t(std::upper_bound(g.vertex_begin.begin(), g.vertex_begin.end(), begin) - g.vertex_begin.begin()) - 1;
-    for (size_t v = begin; v < end; ++v) {
-      while (v >= g.vertex_begin[d + 1]) ++d;
-      const glm::vec3& p = draws[d].primitive->positions[v - g.vertex_begin[d]];
-      g.vertices[v] = project_vertex(draws[d].model_to_clip * glm::vec4(p, 1.0f), params);
+    for (size_t v = begin; v < end; ++d) {
+      const size_t draw_end = std::min<size_t>(end, g.vertex_begin[d + 1]);
+      if (draw_end == v) continue;  // a draw without vertices
+      project_vertices(&draws[d].primitive->positions[v - g.vertex_begin[d]], draw_end - v, draws[d].model_to_clip,
+                       params, &g.vertices[v]);
+      v = draw_end;
     }
   });
 
@@ -68,23 +73,20 @@ void TiledRasterizer::build(JobSystem& jobs, GeometrySet set, std::span<const Ra
     const size_t chunk = begin / kSetupChunk;
     SetupBatch& out = g.chunks[chunk].setup;
     out.clear(uint32_t(set) << kSetShift | uint32_t(chunk) << kChunkShift);
+    // The chunk's part of each draw it overlaps.
     size_t d = size_t(std::upper_bound(g.triangle_begin.begin(), g.triangle_begin.end(), begin) - g.triangle_begin.begin()) - 1;
-    for (size_t tri = begin; tri < end; ++tri) {
-      while (tri >= g.triangle_begin[d + 1]) ++d;
+    for (size_t tri = begin; tri < end; ++d) {
+      const size_t draw_end = std::min<size_t>(end, g.triangle_begin[d + 1]);
+      if (draw_end == tri) continue;  // a draw without triangles
       const RasterDraw& draw = draws[d];
-      const size_t local = tri - g.triangle_begin[d];
-      const uint32_t* idx = &draw.primitive->indices[3 * local];
-      const size_t base = g.vertex_begin[d], n = draw.primitive->positions.size();
-      if (idx[0] >= n || idx[1] >= n || idx[2] >= n)
-        throw Error("rasterizer: draw " + std::to_string(draw.draw_index) + " triangle " + std::to_string(local) +
-                    " indexes a vertex out of range");
-      setup_triangle(g.vertices[base + idx[0]], g.vertices[base + idx[1]], g.vertices[base + idx[2]], draw, uint32_t(local),
-                     params, out);
+      setup_triangles(&g.vertices[g.vertex_begin[d]], draw.primitive->positions.size(), draw,
+                      uint32_t(tri - g.triangle_begin[d]), uint32_t(draw_end - tri), params, out);
+      tri = draw_end;
     }
   });
 
   jobs.parallel_for("bin", g.chunk_count, 1, [&](size_t begin, size_t end) {
-    for (size_t c = begin; c < end; ++c) bin_triangles(g.chunks[c].setup, grid, g.chunks[c].bins);
+    for (size_t c = begin; c < end; ++c) bin_triangles(g.chunks[c].setup, grid, sample_margin, g.chunks[c].bins);
   });
 
   RasterStats& s = g.stats;

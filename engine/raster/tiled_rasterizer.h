@@ -13,6 +13,9 @@
 // shared by all pieces the clipper cuts from it; the visibility buffer, the
 // callbacks and the queries use it. Ids stay valid until the next render call
 // of the same kind (visibility, blended, depth each keep their own geometry).
+// The queries (barycentrics, ref, interp) answer for the ids the rasterizer
+// reports: a tiny triangle that covers no pixel centre keeps its id but is
+// reported nowhere, and its interpolation planes are never computed.
 //
 // One instance per view: calls on one instance must not overlap; render the
 // shadow map with its own instance if it runs concurrently with the view.
