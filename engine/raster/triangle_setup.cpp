@@ -173,6 +173,17 @@ bool set_piece(ScreenTriangle& t, const int32_t (&x)[3], const int32_t (&y)[3], 
   return !t.tiny || t.mask != 0;
 }
 
+// Whether the triangle with this clip-space determinant is dropped: a
+// degenerate or non-finite one always, a back face of a single-sided draw
+// when culling. det > 0 iff the triangle is counter-clockwise in NDC as seen
+// from the eye; unlike a screen-space area this holds for vertices behind the
+// eye too.
+bool facing_culled(double det, const RasterDraw& draw, const SetupParams& params) {
+  if (!(det != 0.0) || !std::isfinite(det)) return true;
+  const bool front = (det > 0.0) != draw.mirrored;
+  return params.cull == CullMode::Back && !draw.double_sided && !front;
+}
+
 void set_depth(ScreenTriangle& t, double z0, double zx, double zy, double zmin, double zmax, const PixelRect& ref) {
   t.z0 = float(z0);
   t.zx = float(zx);
@@ -222,18 +233,12 @@ void setup_triangle(const ProjectedVertex& pv0, const ProjectedVertex& pv1, cons
   const glm::dvec3 p0(v[0].x, v[0].y, v[0].w), p1(v[1].x, v[1].y, v[1].w), p2(v[2].x, v[2].y, v[2].w);
   const glm::dvec3 n[3] = {glm::cross(p1, p2), glm::cross(p2, p0), glm::cross(p0, p1)};
   const double det = glm::dot(p0, n[0]);
-  // det > 0 iff the triangle is counter-clockwise in NDC as seen from the
-  // eye; unlike a screen-space area this holds for vertices behind the eye too.
-  if (!(det != 0.0) || !std::isfinite(det)) {
+  if (facing_culled(det, draw, params)) {
     ++out.counters.culled;
     return;
   }
   const bool ccw = det > 0.0;
   const bool front = ccw != draw.mirrored;
-  if (params.cull == CullMode::Back && !draw.double_sided && !front) {
-    ++out.counters.culled;
-    return;
-  }
 
   if (any_out == 0) {
     // Unclipped: the only piece is the triangle itself. Counter-clockwise in
@@ -485,16 +490,12 @@ void batch_edges(Candidates& c, const SetupParams& params) {
 void finish_candidate(const Candidates& c, int i, const ProjectedVertex* vertices, const RasterDraw& draw,
                       const SetupParams& params, SetupBatch& out) {
   const double det = c.det[i];
-  if (!(det != 0.0) || !std::isfinite(det)) {
+  if (facing_culled(det, draw, params)) {
     ++out.counters.culled;
     return;
   }
   const bool ccw = det > 0.0;
   const bool front = ccw != draw.mirrored;
-  if (params.cull == CullMode::Back && !draw.double_sided && !front) {
-    ++out.counters.culled;
-    return;
-  }
   const int64_t area = c.area[i];
   if (area == 0 || (area < 0) != ccw) {
     ++out.counters.culled;
