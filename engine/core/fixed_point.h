@@ -4,25 +4,23 @@
 // functions are the definitions; the vector forms (fixed_simd.h) equal them
 // bit for bit. Formats, error bounds and costs: docs/fixed_point.md.
 //
-// Rounding: conversions from float round to nearest, ties to even, by an
-// explicit rounding (roundss/roundps with an immediate mode), so results do
-// not depend on MXCSR. Integer products round half up, as pmulhrsw does.
+// Rounding: conversions from float round to nearest, ties to even: the
+// default rounding mode, which the engine never changes. Scalar (nearbyint,
+// roundss) and vector forms (cvtps2dq) both round in the current mode, so
+// they agree bit for bit under any. Integer products round half up, as
+// pmulhrsw does.
 // Every conversion saturates and maps NaN to 0. No operation overflows a
 // signed type: products are formed in int32/int64 or unsigned.
 #include <algorithm>
 #include <array>
 #include <bit>
+#include <cmath>
 #include <cstdint>
 #include <limits>
 
 namespace cr::fx {
 
 namespace detail {
-
-// Round to nearest, ties to even, independent of the rounding mode (GCC and
-// clang lower it to roundss with an immediate mode under SSE4.1).
-inline float round_even(float x) { return __builtin_roundevenf(x); }
-inline double round_even(double x) { return __builtin_roundeven(x); }
 
 // Clamps x to [lo, hi] with NaN -> 0 (comparisons with NaN are false).
 inline float clamp_nan0(float x, float lo, float hi) {
@@ -39,7 +37,7 @@ inline float clamp_nan0(float x, float lo, float hi) {
 // x * 32768 is exact (a power-of-two scale), so the result is the nearest
 // code: |decode_q15(encode_q15(x)) - x| <= 2^-16 on [0, 32767/32768].
 inline uint16_t encode_q15(float x) {
-  return uint16_t(detail::round_even(detail::clamp_nan0(x * 32768.0f, 0.0f, 32767.0f)));
+  return uint16_t(std::nearbyint(detail::clamp_nan0(x * 32768.0f, 0.0f, 32767.0f)));
 }
 
 inline float decode_q15(uint16_t c) { return float(c) * (1.0f / 32768.0f); }
@@ -70,7 +68,7 @@ inline uint16_t lerp_q15(uint16_t a, uint16_t b, int16_t w) {
 // code: |c / 65535 - x| <= 0.5 / 65535 on [0, 1].
 inline uint16_t encode_unorm16(float x) {
   const double y = double(detail::clamp_nan0(x, 0.0f, 1.0f)) * 65535.0;
-  return uint16_t(detail::round_even(y));
+  return uint16_t(std::nearbyint(y));
 }
 
 // The float nearest to c / 65535 (one correctly rounded division).
@@ -88,7 +86,7 @@ inline uint16_t mul_unorm16(uint16_t a, uint16_t b) {
 // ---- Q1.14: value = code / 16384, range [-2, 2 - 2^-14] ---------------------
 
 inline int16_t encode_q1_14(float x) {
-  return int16_t(detail::round_even(detail::clamp_nan0(x * 16384.0f, -32768.0f, 32767.0f)));
+  return int16_t(std::nearbyint(detail::clamp_nan0(x * 16384.0f, -32768.0f, 32767.0f)));
 }
 
 inline float decode_q1_14(int16_t c) { return float(c) * (1.0f / 16384.0f); }
@@ -101,7 +99,7 @@ inline int32_t encode_q16_16(float x) {
   if (!(y == y)) return 0;
   if (y >= 2147483648.0f) return std::numeric_limits<int32_t>::max();
   if (y <= -2147483648.0f) return std::numeric_limits<int32_t>::min();
-  return int32_t(detail::round_even(y));
+  return int32_t(std::nearbyint(y));
 }
 
 // The float nearest to c / 65536 (exact for |c| <= 2^24).
