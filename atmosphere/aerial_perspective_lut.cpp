@@ -87,4 +87,27 @@ void AerialPerspectiveLut::bake(size_t begin, size_t end, const AtmosphereLuts& 
   }
 }
 
+void AerialPerspectiveLut::quantize_q15() {
+  float* l = &luminance_.texels[0].x;
+  float* t = &transmittance_.texels[0].x;
+  const size_t n = 3 * luminance_.count();
+  luminance_scale_ = q15_scale_for(max_value(l, n, 1));
+  const Q15Scale unit;
+  round_to_q15(l, n, 1, luminance_scale_);
+  round_to_q15(t, n, 1, unit);
+  packed_q15_.resize(packed_.size());
+  const int w = luminance_.width, h = luminance_.height;
+  for (int z = 0; z < luminance_.depth; ++z)
+    for (int py = 0; py <= h; ++py)
+      for (int px = 0; px <= w; ++px) {
+        const glm::vec3 lv = luminance_.at(std::min(px, w - 1), std::min(py, h - 1), z);
+        const glm::vec3 tv = transmittance_.at(std::min(px, w - 1), std::min(py, h - 1), z);
+        const size_t i = packed_index(px, py, z);
+        packed_[i] = {{lv.x, lv.y, lv.z, 0.0f}, {tv.x, tv.y, tv.z, 0.0f}};
+        packed_q15_[i] = {{to_q15(lv.x, luminance_scale_), to_q15(lv.y, luminance_scale_),
+                           to_q15(lv.z, luminance_scale_), 0},
+                          {to_q15(tv.x, unit), to_q15(tv.y, unit), to_q15(tv.z, unit), 0}};
+      }
+}
+
 }  // namespace cr

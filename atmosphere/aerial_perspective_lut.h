@@ -11,6 +11,7 @@
 #include <glm/glm.hpp>
 
 #include "atmosphere/lut_image.h"
+#include "atmosphere/lut_quantization.h"
 #include "atmosphere/scattering_march.h"
 
 namespace cr {
@@ -32,6 +33,12 @@ struct FroxelCamera {
 struct FroxelTexel {
   float luminance[4];      // rgb, pad
   float transmittance[4];  // rgb, pad
+};
+
+// The same froxel quantised (lut_quantization.h): 8 codes, one 16-byte vector.
+struct FroxelTexelQ15 {
+  uint16_t luminance[4];      // rgb, pad (0); the LUT's luminance scale
+  uint16_t transmittance[4];  // rgb, pad (0); scale 1
 };
 
 class AerialPerspectiveLut {
@@ -59,6 +66,13 @@ class AerialPerspectiveLut {
   }
   const FroxelCamera& camera() const { return camera_; }
 
+  // Rounds both images to q15 (luminance with one scale, transmittance with
+  // scale 1) and fills packed_q15() in packed()'s layout; for "luts": "q15".
+  void quantize_q15();
+  bool quantized() const { return !packed_q15_.empty(); }
+  const std::vector<FroxelTexelQ15>& packed_q15() const { return packed_q15_; }
+  const Q15Scale& luminance_scale() const { return luminance_scale_; }
+
  private:
   float km_per_slice_ = 4.0f;
   int steps_per_slice_ = 2;
@@ -66,6 +80,8 @@ class AerialPerspectiveLut {
   LutImage luminance_;
   LutImage transmittance_;
   std::vector<FroxelTexel> packed_;
+  std::vector<FroxelTexelQ15> packed_q15_;
+  Q15Scale luminance_scale_;
 };
 
 }  // namespace cr

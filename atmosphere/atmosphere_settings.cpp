@@ -123,6 +123,17 @@ AtmosphereSettings parse_atmosphere_settings(const nlohmann::json& section, cons
   s.invalidate_camera_deg = float(inv.number("camera_deg", s.invalidate_camera_deg, 0.0, 180.0));
   inv.finish();
 
+  ConfigFields prec = f.object("precision");
+  const std::string luts = prec.text("luts", "float32");
+  if (luts != "float32" && luts != "q15") prec.fail("luts", "must be \"float32\" or \"q15\"");
+  s.lut_precision = luts == "q15" ? LutPrecision::Q15 : LutPrecision::Float32;
+  const std::string composite = prec.text("composite", "float");
+  if (composite != "float" && composite != "fixed") prec.fail("composite", "must be \"float\" or \"fixed\"");
+  s.composite_precision = composite == "fixed" ? CompositePrecision::Fixed : CompositePrecision::Float;
+  if (s.composite_precision == CompositePrecision::Fixed && s.lut_precision != LutPrecision::Q15)
+    prec.fail("composite", "\"fixed\" samples the 16-bit LUTs: it needs \"luts\": \"q15\"");
+  prec.finish();
+
   s.space_altitude = f.number("space_fallback_altitude_m", s.space_altitude, 0.0, 1e9);
   // Marched per pixel every frame in space: kept to what a frame can afford.
   s.space_steps = f.integer("space_march_steps", s.space_steps, 1, 256);

@@ -18,6 +18,13 @@ struct LutSchedule {
   int slices = 1;  // frames one rebuild is spread over (1 = whole LUT in one frame)
 };
 
+// Arithmetic of the LUTs' consumers ("precision" section): float32 LUTs and
+// a float composite (desktop), or LUTs quantised to 15-bit fixed point after
+// each (float) bake and, optionally, sampled and composited per pixel in
+// 16-bit integer arithmetic (mobile).
+enum class LutPrecision { Float32, Q15 };
+enum class CompositePrecision { Float, Fixed };
+
 struct AtmosphereSettings {
   int transmittance_width = 256;
   int transmittance_height = 64;
@@ -60,6 +67,9 @@ struct AtmosphereSettings {
   float invalidate_sun_deg = 0.5f;     // sun zenith/direction change that forces sky-view and AP rebuilds
   float invalidate_camera_m = 50.0f;   // camera move (altitude for sky-view, position for AP)
   float invalidate_camera_deg = 5.0f;  // camera rotation or fov change (AP)
+
+  LutPrecision lut_precision = LutPrecision::Float32;
+  CompositePrecision composite_precision = CompositePrecision::Float;
 
   double space_altitude = 100e3;  // above this camera altitude: per-pixel ray marching, no sky-view/AP
   int space_steps = 24;           // steps of the per-pixel march (also used beyond the AP range)

@@ -231,6 +231,8 @@ void LutScheduler::run(LutKind kind, const AtmospherePlan& plan, JobSystem& jobs
     timing.building_ms = 0.0;
   };
   auto finish = [&](auto& slot) {
+    // A complete LUT is quantised before it is published (and inside the pass's time).
+    if (w.slice_end >= slot.slices && s.lut_precision == LutPrecision::Q15) slot.back->quantize_q15();
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     timing.frame_ms = ms;
     timing.building_ms += ms;

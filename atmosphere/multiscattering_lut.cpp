@@ -7,6 +7,7 @@
 
 #include "atmosphere/atmosphere_density.h"
 #include "atmosphere/float4.h"
+#include "atmosphere/lut_quantization.h"
 #include "atmosphere/phase_functions.h"
 #include "atmosphere/planet_geometry.h"
 #include "engine/core/fast_math.h"
@@ -485,6 +486,12 @@ float MultiScatteringLut::max_fms_seen() const {
   float m = 0.0f;
   for (float f : fms_) m = std::max(m, f);
   return m;
+}
+
+void MultiScatteringLut::quantize_q15() {
+  const Q15Scale s = q15_scale_for(max_value(&image_.texels[0].x, 3 * image_.count(), 1));
+  round_to_q15(&image_.texels[0].x, 3 * image_.count(), 1, s);
+  for (int c = 0; c < 3; ++c) round_to_q15(packed_.data() + c, image_.count(), 4, s);
 }
 
 }  // namespace cr

@@ -116,6 +116,10 @@ class MultiScatteringLut {
   int clamped_texels() const;  // texels whose f_ms hit max_fms
   float max_fms_seen() const;  // largest unclamped f_ms component over the LUT
 
+  // Rounds the image to q15 (one scale) for "luts": "q15". The moments
+  // (signed, small corrections to the image) stay float.
+  void quantize_q15();
+
   const LutImage& image() const { return image_; }
   const float* packed() const { return packed_.data(); }  // the image as rgb + pad (see float4.h)
   // Moment k's plane, rgb + pad like packed(), pre-scaled: Rayleigh's quadratic

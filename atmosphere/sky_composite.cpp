@@ -3,12 +3,16 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <vector>
+
 
 #include "atmosphere/float4.h"
 #include "atmosphere/phase_functions.h"
 #include "atmosphere/planet_geometry.h"
+#include "atmosphere/q15_texels.h"
 #include "engine/core/fast_math.h"
+#include "engine/core/fixed_point.h"
 
 namespace cr {
 
@@ -29,7 +33,9 @@ glm::vec3 skyview_lookup(const SkyFrame& f, const glm::vec3& dir) {
   const float sin_vz = std::sqrt(std::max(0.0f, 1.0f - cos_vz * cos_vz));
   const float cos_lon = sin_vz > 1e-6f ? glm::dot(dir, f.sun_horizontal) / sin_vz : 1.0f;
   const float nu = std::clamp(glm::dot(dir, f.sun), -1.0f, 1.0f);
-  return f.skyview->sample(f.skyview->mapping().to_unit(cos_vz, cos_lon), mie_phase(f.model, nu));
+  const glm::vec2 unit = f.skyview->mapping().to_unit(cos_vz, cos_lon);
+  const float phase = mie_phase(f.model, nu);
+  return f.fixed ? f.skyview->sample_fixed(unit, phase) : f.skyview->sample(unit, phase);
 }
 
 // skyview_lookup()'s LUT coordinates (unit square) and Mie phase of n
@@ -76,6 +82,35 @@ FroxelSample sample_froxels(const AerialPerspectiveLut& ap, const LutCoord& cx, 
   const glm::vec3 l = glm::mix(sample_bilinear(L, cx, cy, cz.i0), sample_bilinear(L, cx, cy, cz.i1), cz.w);
   const glm::vec3 t = glm::mix(sample_bilinear(T, cx, cy, cz.i0), sample_bilinear(T, cx, cy, cz.i1), cz.w);
   return {l, t};
+}
+
+// sample_froxels() from the q15 froxels: the footprint's weights in q15, the
+// bi/trilinear blend of luminance and transmittance as one 8-code vector,
+// then decoded; the near-camera weight in float, as the fixed kernel does.
+FroxelSample sample_froxels_fixed(const AerialPerspectiveLut& ap, const LutCoord& cx, const LutCoord& cy,
+                                  float distance) {
+  const FroxelTexelQ15* q = ap.packed_q15().data();
+  const int depth = ap.luminance().depth;
+  const fx::I16x8 wx = splat_weight(fx::weight_q15(cx.w)), wy = splat_weight(fx::weight_q15(cy.w));
+  auto slice = [&](int z) {
+    return bilinear_q15(&q[ap.packed_index(cx.i0, cy.i0, z)], &q[ap.packed_index(cx.i1, cy.i0, z)],
+                        &q[ap.packed_index(cx.i0, cy.i1, z)], &q[ap.packed_index(cx.i1, cy.i1, z)], wx, wy);
+  };
+  const float sz = ap.slice_coordinate(distance);
+  fx::U16x8 v;
+  float near = 1.0f;
+  if (sz < 0.0f) {
+    v = slice(0);
+    near = std::clamp(distance / ap.slice_distance(0), 0.0f, 1.0f);
+  } else {
+    const LutCoord cz = lut_coord(sz, depth);
+    v = fx::lerp_q15(slice(cz.i0), slice(cz.i1), splat_weight(fx::weight_q15(cz.w)));
+  }
+  Float4 l, t;
+  decode_halves(v, ap.luminance_scale().scale, 1.0f, l, t);
+  l *= splat4(near);
+  const Float4 one = {1.0f, 1.0f, 1.0f, 0.0f};
+  return {to_vec3(l), to_vec3(one + (t - one) * splat4(near))};
 }
 
 // Froxel texel coordinates of a world point given relative to the froxel camera.
@@ -173,6 +208,7 @@ inline void bilinear_froxel(const float* r, size_t dx, size_t dy, const Float4& 
 struct Scratch {
   std::vector<float> sx, row_sx, dist, a, b, c, d;
   std::vector<int> sky, interp, froxel, other, identity, texel;
+  std::vector<int16_t> qx, qy, qz;  // q15 froxel weights (fixed composite)
   std::vector<glm::vec3> grid;       // exact sky at the grid points
   std::vector<glm::vec3> edge;       // the grid interpolated to one row
   std::vector<float> wx;             // per pixel: weight of the grid column to its right
@@ -185,6 +221,7 @@ struct Scratch {
   void resize(size_t n) {
     for (auto* v : {&sx, &row_sx, &dist, &a, &b, &c, &d}) v->resize(n);
     for (auto* v : {&sky, &interp, &froxel, &other, &texel}) v->resize(n);
+    for (auto* v : {&qx, &qy, &qz}) v->resize(n);
     for (size_t k = identity.size(); k < n; ++k) identity.push_back(int(k));
   }
 };
@@ -252,6 +289,50 @@ void apply_froxels(const FroxelRow& c, const FroxelVolume& v, size_t n, const in
   }
 }
 
+// apply_froxels() from the q15 froxels (FroxelVolumeQ15: the same layout):
+// weights converted to q15 in one loop that vectorizes, then per pixel the
+// bi/trilinear blend of luminance and transmittance as one 8-code vector in
+// 16-bit integer arithmetic (three or seven lerps), decoded, and the
+// near-camera weight and the blend with the surface in float.
+struct FroxelVolumeQ15 {
+  const FroxelTexelQ15* texels;
+  int width, height;
+  float luminance_scale;
+};
+
+void apply_froxels_fixed(const FroxelRow& c, const FroxelVolumeQ15& v, size_t n, const int* __restrict index,
+                         const float* __restrict sx, const float* __restrict dist, Scratch& s,
+                         const Float4& illuminance, glm::vec3* __restrict color) {
+  int* texel = s.texel.data();
+  float *wx = s.a.data(), *wy = s.b.data(), *wz = s.c.data(), *near_w = s.d.data();
+  froxel_footprints(c, FroxelVolume{nullptr, v.width, v.height}, n, sx, dist, texel, wx, wy, wz, near_w);
+  int16_t *qx = s.qx.data(), *qy = s.qy.data(), *qz = s.qz.data();
+  for (size_t j = 0; j < n; ++j) {
+    qx[j] = fx::weight_q15(wx[j]);
+    qy[j] = fx::weight_q15(wy[j]);
+    qz[j] = fx::weight_q15(wz[j]);
+  }
+  const size_t row = size_t(v.width) + 1;
+  const size_t dy = row, dz = row * (size_t(v.height) + 1);  // in texels
+  const Float4 one = {1.0f, 1.0f, 1.0f, 0.0f};
+  for (size_t j = 0; j < n; ++j) {
+    const fx::I16x8 x8 = splat_weight(qx[j]), y8 = splat_weight(qy[j]);
+    const FroxelTexelQ15* q = v.texels + size_t(texel[j]);
+    fx::U16x8 lt = bilinear_q15(q, q + 1, q + dy, q + dy + 1, x8, y8);
+    if (qz[j] != 0) {
+      const FroxelTexelQ15* b = q + dz;
+      lt = fx::lerp_q15(lt, bilinear_q15(b, b + 1, b + dy, b + dy + 1, x8, y8), splat_weight(qz[j]));
+    }
+    const Float4 near = splat4(near_w[j]);
+    Float4 l, t;
+    decode_halves(lt, v.luminance_scale, 1.0f, l, t);
+    l *= near;
+    const Float4 tr = one + (t - one) * near;
+    glm::vec3& out = color[index[j]];
+    out = to_vec3(to_float4(out) * tr + l * illuminance);
+  }
+}
+
 // The sky over a tile is smooth almost everywhere: it is evaluated exactly on
 // a grid of every kBlock-th pixel and bilinearly interpolated inside each
 // block, except in blocks where that is not accurate: across the horizon (or
@@ -311,7 +392,10 @@ void sky_radiance_batch(const SkyFrame& f, size_t n, const float* dx, const floa
           return lobe * henyey_greenstein(c, g) + (1.0f - lobe) * henyey_greenstein(c, g2);
         },
         n, dx, dy, dz, u.data(), v.data(), ph.data());
-  for (size_t i = 0; i < n; ++i) out[i] = f.skyview->sample(glm::vec2(u[i], v[i]), ph[i]) * f.sun_illuminance;
+  if (f.fixed)
+    for (size_t i = 0; i < n; ++i) out[i] = f.skyview->sample_fixed(glm::vec2(u[i], v[i]), ph[i]) * f.sun_illuminance;
+  else
+    for (size_t i = 0; i < n; ++i) out[i] = f.skyview->sample(glm::vec2(u[i], v[i]), ph[i]) * f.sun_illuminance;
 }
 
 glm::vec3 apply_aerial_perspective(const SkyFrame& f, const glm::vec3& dir, float distance, const glm::vec3& color) {
@@ -326,8 +410,9 @@ glm::vec3 apply_aerial_perspective(const SkyFrame& f, const glm::vec3& dir, floa
   float fx, fy;
   project_to_froxels(ap, rel, fx, fy);
   const float range = ap.range();
-  FroxelSample s = sample_froxels(ap, lut_coord(fx, ap.luminance().width), lut_coord(fy, ap.luminance().height),
-                                  std::min(froxel_distance, range));
+  const LutCoord cx = lut_coord(fx, ap.luminance().width), cy = lut_coord(fy, ap.luminance().height);
+  FroxelSample s = f.fixed ? sample_froxels_fixed(ap, cx, cy, std::min(froxel_distance, range))
+                           : sample_froxels(ap, cx, cy, std::min(froxel_distance, range));
   if (froxel_distance > range) {
     // Beyond the froxels: march the rest of the ray and append it.
     thread_local MarchedRay scratch;
@@ -364,6 +449,8 @@ void composite_sky(const SkyFrame& f, FrameBuffers& buffers, int x0, int y0, int
   const SkyViewMapping& map = sv.mapping();
   const int sv_w = sv.image().width, sv_h = sv.image().height;
   const SkyViewTexel* sky_texels = sv.packed().data();
+  const SkyViewTexelQ15* sky_q15 = f.fixed ? sv.packed_q15().data() : nullptr;
+  const float rest_scale = sv.rest_scale().scale, mie_scale = sv.mie_scale().scale;
   SkyRow sr{RowDot(f.up, cam.forward, cam.right), RowDot(f.sun, cam.forward, cam.right),
             RowDot(f.sun_horizontal, cam.forward, cam.right), 0.0f, 0.0f, 0.0f, map.first_angle,
             1.0f / (map.zenith_horizon_angle - map.first_angle), map.zenith_horizon_angle, 1.0f / map.beta,
@@ -582,7 +669,18 @@ void composite_sky(const SkyFrame& f, FrameBuffers& buffers, int x0, int y0, int
           const Float4 top = a + (b - a) * wu, bottom = c + (d - c) * wu;
           return top + (bottom - top) * wv;
         };
-        const Float4 l = (bilinear(0) + bilinear(4) * ph[j]) * e;
+        Float4 l;
+        if (f.fixed) {
+          const SkyViewTexelQ15* pq = sky_q15 + size_t(v0) * size_t(sv_w) + size_t(u0);
+          const fx::U16x8 b = bilinear_q15(pq, pq + du, pq + dv, pq + dv + size_t(du),
+                                           splat_weight(fx::weight_q15(fu[j] - float(u0))),
+                                           splat_weight(fx::weight_q15(fv[j] - float(v0))));
+          Float4 rest, mie;
+          decode_halves(b, rest_scale, mie_scale, rest, mie);
+          l = (rest + mie * ph[j]) * e;
+        } else {
+          l = (bilinear(0) + bilinear(4) * ph[j]) * e;
+        }
         const size_t k = size_t(s.sky[j]);
         glm::vec3 out(l[0], l[1], l[2]);
         if (nu[j] > f.cos_sun_radius) {  // the sun disk: a handful of pixels
@@ -609,7 +707,12 @@ void composite_sky(const SkyFrame& f, FrameBuffers& buffers, int x0, int y0, int
         froxel_sx = s.row_sx.data();
         froxel_distance = s.dist.data();
       }
-      apply_froxels(fr, FroxelVolume{froxels, fw, fh}, n_froxel, froxel_index, froxel_sx, froxel_distance, s, e, color);
+      if (f.fixed)
+        apply_froxels_fixed(fr, FroxelVolumeQ15{ap->packed_q15().data(), fw, fh, ap->luminance_scale().scale},
+                            n_froxel, froxel_index, froxel_sx, froxel_distance, s, e, color);
+      else
+        apply_froxels(fr, FroxelVolume{froxels, fw, fh}, n_froxel, froxel_index, froxel_sx, froxel_distance, s, e,
+                      color);
     }
 
     for (size_t j = 0; j < n_other; ++j) {

@@ -26,6 +26,7 @@ SkyFrame make_sky_frame(const LutScheduler& luts, const AtmospherePlan& plan, co
   f.valid = f.transmittance && f.multiscattering && f.skyview && (f.space || f.aerial_perspective);
   f.model = f.transmittance ? f.transmittance->model() : luts.model();
   const AtmosphereSettings& s = luts.settings();
+  f.fixed = s.composite_precision == CompositePrecision::Fixed;
   f.space_steps = s.space_steps;
   f.skyview_min_steps = s.skyview_min_steps;
   f.skyview_max_steps = s.skyview_max_steps;

@@ -18,6 +18,9 @@ namespace cr {
 struct SkyFrame {
   bool valid = false;
   bool space = false;  // camera above the space altitude: sky-view LUT seen from space, geometry ray marched
+  // "composite": "fixed": the sky-view and froxel LUTs are sampled from their
+  // q15 texels in 16-bit integer arithmetic (SkyViewLut::sample_fixed).
+  bool fixed = false;
   AtmosphereModel model;
   std::shared_ptr<const TransmittanceLut> transmittance;       // latest, for the sun
   std::shared_ptr<const TransmittanceLut> ms_transmittance;    // the one the MS LUT was built from

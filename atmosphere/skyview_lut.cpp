@@ -4,7 +4,9 @@
 #include <cmath>
 
 #include "atmosphere/planet_geometry.h"
+#include "atmosphere/q15_texels.h"
 #include "engine/core/fast_math.h"
+#include "engine/core/fixed_point.h"
 #include "engine/core/math_constants.h"
 
 namespace cr {
@@ -90,6 +92,35 @@ void SkyViewLut::bake(size_t begin, size_t end, const AtmosphereLuts& luts) {
                     {sh.mie_unphased.x, sh.mie_unphased.y, sh.mie_unphased.z, 0.0f}};
     }
   }
+}
+
+void SkyViewLut::quantize_q15() {
+  float* rest = &image_.texels[0].x;
+  float* mie = &mie_.texels[0].x;
+  const size_t n = 3 * image_.count();
+  rest_scale_ = q15_scale_for(max_value(rest, n, 1));
+  mie_scale_ = q15_scale_for(max_value(mie, n, 1));
+  round_to_q15(rest, n, 1, rest_scale_);
+  round_to_q15(mie, n, 1, mie_scale_);
+  packed_q15_.resize(image_.count());
+  for (size_t i = 0; i < image_.count(); ++i) {
+    const glm::vec3 r = image_.texels[i], m = mie_.texels[i];
+    packed_[i] = {{r.x, r.y, r.z, 0.0f}, {m.x, m.y, m.z, 0.0f}};
+    packed_q15_[i] = {{to_q15(r.x, rest_scale_), to_q15(r.y, rest_scale_), to_q15(r.z, rest_scale_), 0},
+                      {to_q15(m.x, mie_scale_), to_q15(m.y, mie_scale_), to_q15(m.z, mie_scale_), 0}};
+  }
+}
+
+glm::vec3 SkyViewLut::sample_fixed(glm::vec2 unit, float mie_phase_value) const {
+  const LutCoord x = lut_coord(unit.x * float(image_.width - 1), image_.width);
+  const LutCoord y = lut_coord(unit.y * float(image_.height - 1), image_.height);
+  const SkyViewTexelQ15* row0 = &packed_q15_[size_t(y.i0) * size_t(image_.width)];
+  const SkyViewTexelQ15* row1 = &packed_q15_[size_t(y.i1) * size_t(image_.width)];
+  const fx::U16x8 v = bilinear_q15(&row0[x.i0], &row0[x.i1], &row1[x.i0], &row1[x.i1],
+                                   splat_weight(fx::weight_q15(x.w)), splat_weight(fx::weight_q15(y.w)));
+  Float4 rest, mie;
+  decode_halves(v, rest_scale_.scale, mie_scale_.scale, rest, mie);
+  return to_vec3(rest + mie * splat4(mie_phase_value));
 }
 
 }  // namespace cr

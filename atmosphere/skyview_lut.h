@@ -17,6 +17,7 @@
 #include <glm/glm.hpp>
 
 #include "atmosphere/lut_image.h"
+#include "atmosphere/lut_quantization.h"
 #include "atmosphere/scattering_march.h"
 #include "engine/core/fast_math.h"
 
@@ -38,6 +39,12 @@ struct SkyViewMapping {
 struct SkyViewTexel {
   float rest[4];          // rgb, pad
   float mie_unphased[4];  // rgb, pad
+};
+
+// The same texel quantised (lut_quantization.h): 8 codes, one 16-byte vector.
+struct SkyViewTexelQ15 {
+  uint16_t rest[4];          // rgb, pad (0)
+  uint16_t mie_unphased[4];  // rgb, pad (0)
 };
 
 // Selects for the branches, std::clamp and std::min (same results, NaN included):
@@ -71,6 +78,17 @@ class SkyViewLut {
     const LutCoord y = lut_coord(unit.y * float(image_.height - 1), image_.height);
     return sample_bilinear(image_, x, y) + sample_bilinear(mie_, x, y) * mie_phase_value;
   }
+  // Rounds both images to q15 (one scale each) and fills packed_q15(); for "luts": "q15".
+  void quantize_q15();
+  bool quantized() const { return !packed_q15_.empty(); }
+  // sample() from the q15 texels in 16-bit integer arithmetic: both parts
+  // lerped as 8 codes (u, then v: fx::lerp_q15 with q15 weights), then
+  // decoded, the Mie part times its phase. The composite's fixed kernel
+  // computes exactly this. Needs quantize_q15().
+  glm::vec3 sample_fixed(glm::vec2 unit, float mie_phase_value) const;
+  const std::vector<SkyViewTexelQ15>& packed_q15() const { return packed_q15_; }
+  const Q15Scale& rest_scale() const { return rest_scale_; }
+  const Q15Scale& mie_scale() const { return mie_scale_; }
   const SkyViewMapping& mapping() const { return mapping_; }
   float altitude() const { return altitude_; }
   float mu_s() const { return mu_s_; }
@@ -87,6 +105,8 @@ class SkyViewLut {
   LutImage image_;
   LutImage mie_;
   std::vector<SkyViewTexel> packed_;
+  std::vector<SkyViewTexelQ15> packed_q15_;
+  Q15Scale rest_scale_, mie_scale_;
 };
 
 }  // namespace cr

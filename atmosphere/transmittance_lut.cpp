@@ -6,6 +6,7 @@
 
 #include "atmosphere/atmosphere_density.h"
 #include "atmosphere/float4.h"
+#include "atmosphere/lut_quantization.h"
 #include "atmosphere/planet_geometry.h"
 
 namespace cr {
@@ -129,6 +130,12 @@ void TransmittanceLut::bake(size_t begin, size_t end) {
     image_.texels[i] = t;
     std::memcpy(&packed_[4 * i], &t, sizeof t);
   }
+}
+
+void TransmittanceLut::quantize_q15() {
+  const Q15Scale unit;
+  round_to_q15(&image_.texels[0].x, 3 * image_.count(), 1, unit);
+  for (int c = 0; c < 3; ++c) round_to_q15(packed_.data() + c, image_.count(), 4, unit);
 }
 
 }  // namespace cr

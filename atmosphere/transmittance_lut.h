@@ -58,6 +58,10 @@ class TransmittanceLut {
   // and texel coordinates of many points come from one loop that vectorizes.
   void sun_batch(const float* altitude, const float* mu_s, size_t n, glm::vec3* out) const;
 
+  // Rounds the image to q15 (scale 1: T = 1 is 1 - 2^-15; T under 2^-16
+  // becomes 0); for "luts": "q15".
+  void quantize_q15();
+
   const LutImage& image() const { return image_; }
   const float* packed() const { return packed_.data(); }  // the image as rgb + pad (see float4.h)
   const AtmosphereModel& model() const { return model_; }

@@ -10,8 +10,10 @@
 #include <limits>
 
 #include "engine/core/error.h"
+#include "engine/core/luminance.h"
 #include "engine/output/color_map.h"
 #include "engine/output/exr_io.h"
+#include "engine/output/percentile.h"
 #include "engine/output/png_io.h"
 #include "engine/core/srgb.h"
 
@@ -71,6 +73,34 @@ nlohmann::json json_number(double value) {
   return std::isnan(value) ? "nan" : value > 0 ? "inf" : "-inf";
 }
 
+// CompareMetrics::rel_luminance_mean and _p95.
+void relative_luminance_error(const ImageRGBf& reference, const ImageRGBf& test, ImageEncoding encoding,
+                              CompareMetrics& m) {
+  const size_t pixels = reference.pixel_count();
+  if (pixels == 0) return;
+  auto y_of = [&](const ImageRGBf& img, size_t i) {
+    glm::dvec3 c(img.rgb[i * 3], img.rgb[i * 3 + 1], img.rgb[i * 3 + 2]);
+    if (encoding == ImageEncoding::Display)
+      for (int k = 0; k < 3; ++k) c[k] = srgb_to_linear(float(c[k]));
+    return luminance(c);
+  };
+  std::vector<double> y_ref(pixels), errors(pixels);
+  double mean_ref = 0.0;
+  for (size_t i = 0; i < pixels; ++i) {
+    y_ref[i] = y_of(reference, i);
+    mean_ref += y_ref[i] / double(pixels);
+  }
+  const double floor = std::max(0.01 * mean_ref, 1e-30);
+  double sum = 0.0;
+  for (size_t i = 0; i < pixels; ++i) {
+    const double e = std::abs(y_of(test, i) - y_ref[i]) / std::max(y_ref[i], floor);
+    errors[i] = std::isnan(e) ? kInf : e;
+    sum += errors[i];
+  }
+  m.rel_luminance_mean = sum / double(pixels);
+  m.rel_luminance_p95 = percentile_nearest_rank(std::move(errors), 95.0);
+}
+
 }  // namespace
 
 float tonemap_aces(float linear) {
@@ -115,6 +145,8 @@ CompareResult compare_images(const ImageRGBf& reference, const ImageRGBf& test,
   m.rmse = pixels > 0 ? std::sqrt(squared_sum / static_cast<double>(pixels * 3)) : 0.0;
   m.psnr_db = m.rmse == 0.0 ? kInf : 20.0 * std::log10(1.0 / m.rmse);
   m.fraction_over = pixels > 0 ? static_cast<double>(m.pixels_over) / static_cast<double>(pixels) : 0.0;
+
+  relative_luminance_error(reference, test, encoding, m);
 
   result.flip_map = flip_error_map(flip_input(reference, encoding), flip_input(test, encoding),
                                    pixels_per_degree);
@@ -199,6 +231,8 @@ nlohmann::json compare_result_to_json(const CompareResult& result,
         {"pixels_over_threshold", m.pixels_over},
         {"fraction_over_threshold", m.fraction_over},
         {"flip_mean", m.flip_mean},
+        {"rel_luminance_mean", json_number(m.rel_luminance_mean)},
+        {"rel_luminance_p95", json_number(m.rel_luminance_p95)},
         {"flip_method", m.flip_method}}},
       {"thresholds",
        {{"max_abs", json_number(thresholds.max_abs)},
@@ -240,6 +274,10 @@ std::string format_compare_result(const CompareResult& result, const CompareThre
   row("mean FLIP", number(m.flip_mean), number(thresholds.flip_mean),
       !exceeds(m.flip_mean, thresholds.flip_mean));
   out += "  (" + m.flip_method + ")\n";
+  std::snprintf(line, sizeof line, "  %-26s %14s\n", "rel. luminance error mean", number(m.rel_luminance_mean).c_str());
+  out += line;
+  std::snprintf(line, sizeof line, "  %-26s %14s\n", "rel. luminance error p95", number(m.rel_luminance_p95).c_str());
+  out += line;
   out += result.pass ? "PASS\n" : "FAIL\n";
   return out;
 }

@@ -40,6 +40,12 @@ struct CompareMetrics {
   double fraction_over = 0.0;
   double flip_mean = 0.0;
   std::string flip_method;                  // how the FLIP inputs were prepared
+  // Relative luminance error |Y_test - Y_ref| / Y_ref on linear values (PNG
+  // inputs sRGB-decoded), pixels whose reference is darker than 1% of the
+  // mean reference luminance measured against that floor; mean and
+  // nearest-rank p95. Reported, not thresholded.
+  double rel_luminance_mean = 0.0;
+  double rel_luminance_p95 = 0.0;
 };
 
 struct CompareResult {

@@ -194,3 +194,18 @@ TEST_CASE("bad compare inputs are InputErrors naming the file") {
   check_input_error(reference, dir.file("good.exr"), dir.file("good.exr"));
   check_input_error(dir.file("good.exr"), dir.file("rg.exr"), dir.file("rg.exr"));
 }
+
+TEST_CASE("relative luminance error: 0 for identical images, the scale factor for a scaled linear image") {
+  cr::ImageRGBf reference(20, 10), test(20, 10);
+  for (size_t i = 0; i < reference.pixel_count(); ++i)
+    for (int c = 0; c < 3; ++c) reference.rgb[i * 3 + c] = 0.5f + 0.1f * float(i % 7) + 0.05f * float(c);
+  const cr::CompareThresholds thresholds;
+  CHECK(cr::compare_images(reference, reference, cr::ImageEncoding::Linear, thresholds).metrics.rel_luminance_p95 == 0.0);
+  for (size_t i = 0; i < test.rgb.size(); ++i) test.rgb[i] = reference.rgb[i] * 1.1f;
+  // 10% brighter in 190 pixels, ten pixels 3x: p95 sees the 10%, the mean both.
+  for (size_t i = 0; i < 10; ++i)
+    for (int c = 0; c < 3; ++c) test.rgb[i * 3 + c] = reference.rgb[i * 3 + c] * 3.0f;
+  const cr::CompareMetrics m = cr::compare_images(reference, test, cr::ImageEncoding::Linear, thresholds).metrics;
+  CHECK(m.rel_luminance_p95 == doctest::Approx(0.1).epsilon(1e-4));
+  CHECK(m.rel_luminance_mean == doctest::Approx((190 * 0.1 + 10 * 2.0) / 200.0).epsilon(1e-4));
+}
