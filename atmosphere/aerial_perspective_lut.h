@@ -11,7 +11,7 @@
 #include <glm/glm.hpp>
 
 #include "atmosphere/lut_image.h"
-#include "atmosphere/lut_quantization.h"
+#include "engine/core/q15_scale.h"
 #include "atmosphere/scattering_march.h"
 
 namespace cr {
@@ -35,7 +35,7 @@ struct FroxelTexel {
   float transmittance[4];  // rgb, pad
 };
 
-// The same froxel quantised (lut_quantization.h): 8 codes, one 16-byte vector.
+// The same froxel quantised (engine/core/q15_scale.h): 8 codes, one 16-byte vector.
 struct FroxelTexelQ15 {
   uint16_t luminance[4];      // rgb, pad (0); the LUT's luminance scale
   uint16_t transmittance[4];  // rgb, pad (0); scale 1

@@ -1,5 +1,5 @@
 #pragma once
-// The q15 LUT texels' per-pixel arithmetic (lut_quantization.h): a texel is
+// The q15 LUT texels' per-pixel arithmetic (engine/core/q15_scale.h): a texel is
 // 8 codes in one 16-byte vector (two rgb + pad halves), blended in 16-bit
 // integer lanes (fx::lerp_q15: pmulhrsw) and decoded half by half to floats.
 #include <cstring>

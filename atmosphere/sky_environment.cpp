@@ -102,6 +102,8 @@ void SkyEnvironment::run(const EnvironmentWork& w, const AtmospherePlan& plan, u
   }
   back_->run(back_->slice_begin(w.slice, slices_), back_->slice_begin(w.slice + 1, slices_), sky_environment_radiance(*back_sky_), jobs, "atmosphere.environment");
   next_slice_ = w.slice + 1;
+  // Quantised before it is published, inside the pass's time.
+  if (back_->complete() && settings_.lut_precision == LutPrecision::Q15) back_->quantize_result_q15();
   frame_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   building_ms_ += frame_ms_;
   if (back_->complete()) {

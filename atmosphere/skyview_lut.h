@@ -17,7 +17,7 @@
 #include <glm/glm.hpp>
 
 #include "atmosphere/lut_image.h"
-#include "atmosphere/lut_quantization.h"
+#include "engine/core/q15_scale.h"
 #include "atmosphere/scattering_march.h"
 #include "engine/core/fast_math.h"
 
@@ -41,7 +41,7 @@ struct SkyViewTexel {
   float mie_unphased[4];  // rgb, pad
 };
 
-// The same texel quantised (lut_quantization.h): 8 codes, one 16-byte vector.
+// The same texel quantised (engine/core/q15_scale.h): 8 codes, one 16-byte vector.
 struct SkyViewTexelQ15 {
   uint16_t rest[4];          // rgb, pad (0)
   uint16_t mie_unphased[4];  // rgb, pad (0)

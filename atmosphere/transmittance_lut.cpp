@@ -6,7 +6,7 @@
 
 #include "atmosphere/atmosphere_density.h"
 #include "atmosphere/float4.h"
-#include "atmosphere/lut_quantization.h"
+#include "engine/core/q15_scale.h"
 #include "atmosphere/planet_geometry.h"
 
 namespace cr {

@@ -55,6 +55,8 @@ class EnvironmentPrefilter {
   void run(size_t begin, size_t end, const Radiance& radiance, JobSystem& jobs, const std::string& job_name);
   // The built environment (complete() only).
   std::shared_ptr<const SpecularEnvironment> result() const { return env_; }
+  // Rounds the complete result to q15 (SpecularEnvironment::quantize_q15).
+  void quantize_result_q15() { env_->quantize_q15(); }
 
  private:
   struct LevelSamples {

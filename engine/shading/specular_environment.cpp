@@ -2,6 +2,9 @@
 
 #include <cmath>
 
+#include "engine/core/fixed_simd.h"
+#include "engine/core/q15_scale.h"
+
 namespace cr {
 
 namespace {
@@ -68,6 +71,25 @@ inline Texel4 bilinear(const float* rgba, const LevelTaps& t) {
 inline Texel4 trilinear(const float* rgba, const LevelTaps& t0, const LevelTaps& t1, float w) {
   const Texel4 a = bilinear(rgba, t0), b = bilinear(rgba, t1);
   return a + (b - a) * w;
+}
+
+// trilinear() from q15 codes (the same tap offsets: 4 codes a texel): a
+// row's two taps are one 16-byte load, so the rows are blended first (8
+// lanes: both taps), then the left tap with the right one, then the levels.
+inline fx::U16x8 bilinear_q15(const uint16_t* codes, const LevelTaps& t) {
+  fx::U16x8 top, bottom;
+  __builtin_memcpy(&top, codes + t.first, sizeof top);
+  __builtin_memcpy(&bottom, codes + t.first + t.row, sizeof bottom);
+  const fx::U16x8 rows = fx::lerp_q15(top, bottom, fx::I16x8{} + fx::weight_q15(t.wy));
+  const fx::U16x8 swapped = __builtin_shufflevector(rows, rows, 4, 5, 6, 7, 0, 1, 2, 3);
+  return fx::lerp_q15(rows, swapped, fx::I16x8{} + fx::weight_q15(t.wx));  // lanes 0-3: the texel
+}
+
+inline Texel4 trilinear_q15(const uint16_t* codes, float scale, const LevelTaps& t0, const LevelTaps& t1, float w) {
+  const fx::U16x8 a = bilinear_q15(codes, t0), b = bilinear_q15(codes, t1);
+  Texel4 lo, hi;
+  fx::decode_q15(fx::lerp_q15(a, b, fx::I16x8{} + fx::weight_q15(w)), lo, hi);
+  return lo * scale;
 }
 
 }  // namespace
@@ -139,7 +161,7 @@ glm::vec3 SpecularEnvironment::sample_level(const glm::vec3& dir, float level) c
   level_pair(levels(), level, k0, k1, w);
   const LevelTaps t0 = level_taps(offsets_[size_t(k0)], fsizes_[size_t(k0)], u, v);
   const LevelTaps t1 = level_taps(offsets_[size_t(k1)], fsizes_[size_t(k1)], u, v);
-  const Texel4 t = trilinear(rgba_.data(), t0, t1, w);
+  const Texel4 t = quantized() ? trilinear_q15(codes_.data(), scale_, t0, t1, w) : trilinear(rgba_.data(), t0, t1, w);
   return {t[0], t[1], t[2]};
 }
 
@@ -193,13 +215,24 @@ void SpecularEnvironment::sample_batch(size_t n, const float* dx, const float* d
       wx1[i] = t1.wx;
       wy1[i] = t1.wy;
     }
+    const uint16_t* codes = codes_.data();
     for (size_t i = 0; i < m; ++i) {
-      const Texel4 t =
-          trilinear(rgba, {first0[i], row0[i], wx0[i], wy0[i]}, {first1[i], row1[i], wx1[i], wy1[i]}, w[i]);
+      const LevelTaps t0{first0[i], row0[i], wx0[i], wy0[i]}, t1{first1[i], row1[i], wx1[i], wy1[i]};
+      const Texel4 t = codes ? trilinear_q15(codes, scale_, t0, t1, w[i]) : trilinear(rgba, t0, t1, w[i]);
       r[start + i] = t[0];
       g[start + i] = t[1];
       b[start + i] = t[2];
     }
+  }
+}
+
+void SpecularEnvironment::quantize_q15() {
+  const Q15Scale scale = q15_scale_for(max_value(rgba_.data(), rgba_.size(), 1));
+  scale_ = scale.scale;
+  codes_.resize(rgba_.size());
+  for (size_t i = 0; i < rgba_.size(); ++i) {
+    codes_[i] = i % 4 == 3 ? 0 : to_q15(rgba_[i], scale);  // the pad lanes stay 0
+    rgba_[i] = from_q15(codes_[i], scale);
   }
 }
 

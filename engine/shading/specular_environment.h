@@ -13,6 +13,7 @@
 // The engine knows no sky: a plugin builds one (environment_prefilter.h) and
 // publishes it through LightEnvironment::specular.
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -51,6 +52,16 @@ class SpecularEnvironment {
   void sample_batch(size_t n, const float* dx, const float* dy, const float* dz, const float* roughness, float* r,
                     float* g, float* b) const;
 
+  // The reduced-precision form (the mobile profile's q15 LUTs): every texel
+  // rounded to 15-bit fixed point with one scale for the whole environment
+  // (its brightest channel at code 32767), the float texels rounded in place,
+  // and from then on sample_level() and sample_batch() blend the codes in
+  // 16-bit lanes (fx::lerp_q15: along y, then x, then between the levels)
+  // and decode once. Call once every level is complete.
+  void quantize_q15();
+  bool quantized() const { return !codes_.empty(); }
+  float code_scale() const { return scale_; }  // the value of code 32768 (Q15Scale::scale)
+
  private:
   size_t padded_index(int level, int px, int py) const {  // border-inclusive coordinates in [0, size + 1]
     return size_t(offsets_[size_t(level)]) + size_t(py) * size_t(sizes_[size_t(level)] + 2) + size_t(px);
@@ -59,6 +70,8 @@ class SpecularEnvironment {
   std::vector<float> fsizes_;
   std::vector<int> offsets_;     // first padded texel of each level (int: the vectorised lookup's indices)
   std::vector<float> rgba_;      // padded texels, RGB + pad (one 16-byte load each)
+  std::vector<uint16_t> codes_;  // the same texels in q15 (quantize_q15), RGB + pad: two texels a 16-byte load
+  float scale_ = 1.0f;
 };
 
 }  // namespace cr

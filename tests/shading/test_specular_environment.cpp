@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <vector>
 
 #include "brdf_quadrature.h"
 #include "engine/core/fast_math.h"
@@ -310,6 +311,45 @@ TEST_CASE("specular environment: bit-identical for 1 and 3 threads and for any s
     CHECK(a->sample(d, rough[i]) == glm::vec3(r[i], g[i], bl[i]));
     // The batch's vectorised steps and sample_level's scalar ones: the same floats.
     CHECK(a->sample_level(d, rough[i] * float(a->levels() - 1)) == glm::vec3(r[i], g[i], bl[i]));
+  }
+}
+
+TEST_CASE("specular environment in q15: texels on the grid, batch = scalar bit for bit, within 2 codes of float") {
+  JobSystem jobs(1);
+  const auto built = prefilter_environment(16, 4, 16, radiance_of(test_radiance), jobs);
+  const SpecularEnvironment& f = *built;
+  SpecularEnvironment q = f;
+  q.quantize_q15();
+  REQUIRE(q.quantized());
+  float peak = 0.0f;
+  for (int k = 0; k < f.levels(); ++k)
+    for (int y = 0; y < f.size(k); ++y)
+      for (int x = 0; x < f.size(k); ++x) {
+        const glm::vec3 a = f.texel(k, x, y), b = q.texel(k, x, y);
+        for (int c = 0; c < 3; ++c) {
+          peak = std::max(peak, a[c]);
+          CHECK(std::abs(a[c] - b[c]) <= 0.5f * q.code_scale() / 32768.0f + 2.4e-7f * a[c]);
+        }
+      }
+  CHECK(q.code_scale() == doctest::Approx(peak * 32768.0f / 32767.0f));
+  constexpr size_t kN = 301;
+  std::vector<float> dx(kN), dy(kN), dz(kN), rough(kN), r(kN), g(kN), b(kN);
+  for (size_t i = 0; i < kN; ++i) {
+    dx[i] = std::cos(float(i) * 1.7f);
+    dy[i] = std::sin(float(i) * 0.9f);
+    dz[i] = std::sin(float(i) * 2.3f) * 0.5f;
+    rough[i] = float(i % 23) / 22.0f;
+  }
+  rough[3] = std::nanf("");
+  q.sample_batch(kN, dx.data(), dy.data(), dz.data(), rough.data(), r.data(), g.data(), b.data());
+  for (size_t i = 0; i < kN; ++i) {
+    CAPTURE(i);
+    const glm::vec3 d(dx[i], dy[i], dz[i]);
+    CHECK(q.sample(d, rough[i]) == glm::vec3(r[i], g[i], b[i]));
+    CHECK(q.sample_level(d, rough[i] * float(q.levels() - 1)) == glm::vec3(r[i], g[i], b[i]));
+    // Three rounded lerps on the rounded texels against float lerps of them: within 2 codes.
+    const glm::vec3 exact = f.sample(d, rough[i]);
+    for (int c = 0; c < 3; ++c) CHECK(std::abs(glm::vec3(r[i], g[i], b[i])[c] - exact[c]) <= 2.0f * q.code_scale() / 32768.0f);
   }
 }
 

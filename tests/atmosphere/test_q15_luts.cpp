@@ -1,4 +1,4 @@
-// The mobile profile's q15 LUTs (lut_quantization.h) and the fixed-point
+// The mobile profile's q15 LUTs (engine/core/q15_scale.h) and the fixed-point
 // composite: rounding, scales, what fixed point costs against float on the
 // same LUTs, and the cases where fixed point fails (underflow, night, a very
 // bright sun) handled without wrap-around.
@@ -9,7 +9,7 @@
 #include <limits>
 #include <vector>
 
-#include "atmosphere/lut_quantization.h"
+#include "engine/core/q15_scale.h"
 #include "atmosphere/sky_composite.h"
 #include "atmosphere_test_util.h"
 #include "engine/core/job_system.h"

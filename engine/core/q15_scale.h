@@ -1,10 +1,11 @@
 #pragma once
-// LUT outputs quantised to 15-bit fixed point (engine/core/fixed_point.h's
-// q15) for the mobile profile's "luts": "q15". The bakes stay float (they
-// are amortised); when a LUT is complete its values are rounded to the q15
-// grid of a scale chosen for the LUT (value = code * scale / 32768, the
-// largest value at code 32767), so the float consumers (the bakes downstream,
-// the lighting) read the same numbers the fixed-point kernels decode.
+// Values quantised to 15-bit fixed point (fixed_point.h's q15) with a scale:
+// value = decode_q15(code) * scale, the largest value at code 32767. The
+// mobile profile's q15 LUTs and specular environment: the bakes stay float
+// (they are amortised); when one is complete its values are rounded to the
+// grid of a scale chosen for it, so the float consumers (the bakes
+// downstream, the lighting) read the same numbers the fixed-point kernels
+// decode.
 //
 // One scale per LUT (and part), not per row or texel: a lerp of two codes is
 // then the lerp of their values, and what a pixel shows of an error of half a

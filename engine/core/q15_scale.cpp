@@ -1,4 +1,4 @@
-#include "atmosphere/lut_quantization.h"
+#include "engine/core/q15_scale.h"
 
 #include <cmath>
 
