@@ -22,18 +22,21 @@ inline constexpr float kHdr16MinDenormal = 0x1p-40f;   // decode_hdr16(0x0001), 
 // From the float's bits: a normal result is the float re-biased (127 -> 31)
 // with its mantissa rounded from 23 to 10 bits; a carry out of the mantissa
 // steps the exponent, as it should. A denormal result is the float's
-// significand shifted down to steps of 2^-40, rounded the same way.
+// significand shifted down to steps of 2^-40, rounded the same way. Both are
+// computed and one selected, without branches, so a loop over many values
+// vectorises (variable shifts: AVX2's vpsrlvd).
 inline uint16_t encode_hdr16(float x) {
   const uint32_t b = std::bit_cast<uint32_t>(x);
-  if (b > 0x7F800000u) return 0;  // NaN, and everything with the sign bit set
   // Round a right shift by s to nearest, ties to even: add just under half,
   // plus one when the kept low bit is odd.
   auto shift_round = [](uint32_t v, uint32_t s) { return (v + (1u << (s - 1)) - 1 + ((v >> s) & 1)) >> s; };
-  if (b >= (97u << 23))  // x >= 2^-30: float exponent 97 is hdr16 exponent 1
-    return uint16_t(std::min<uint32_t>(shift_round(b - (96u << 23), 13), 0xFFFF));
-  const uint32_t s = 110 - (b >> 23);  // x = significand * 2^(exponent - 150), code = x * 2^40
-  if (s > 24) return 0;                // x < 2^-41: below half the smallest denormal
-  return uint16_t(shift_round((b & 0x7FFFFFu) | 0x800000u, s));
+  // x >= 2^-30 (float exponent 97 is hdr16 exponent 1): saturating at the top.
+  const bool normal = b >= (97u << 23);
+  const uint32_t n = std::min<uint32_t>(shift_round((normal ? b : 97u << 23) - (96u << 23), 13), 0xFFFF);
+  // Below: x = significand * 2^(exponent - 150), code = x * 2^40; x < 2^-41 (s > 24) is 0.
+  const uint32_t s = 110 - std::min<uint32_t>(b >> 23, 96);
+  const uint32_t d = s > 24 ? 0 : shift_round((b & 0x7FFFFFu) | 0x800000u, s > 24 ? 24 : s);
+  return uint16_t(b > 0x7F800000u ? 0 : (normal ? n : d));  // NaN, and everything with the sign bit set: 0
 }
 
 // Exact: a normal code is a float's bits re-biased; a denormal is m * 2^-40.

@@ -59,11 +59,20 @@ Profile parse_profile(const nlohmann::json& doc, const std::string& path,
       } else {
         root.fail(key, "must be \"none\", \"msaa2\", \"msaa4\" or \"msaa8\", found \"" + s + "\"");
       }
+    } else if (key == "precision") {
+      const JsonObject precision = root.object("precision");
+      precision.allow_only({"resolve"});
+      if (precision.has("resolve")) {
+        const std::string s = precision.string("resolve");
+        if (s != "float" && s != "fixed")
+          precision.fail("resolve", "must be \"float\" or \"fixed\", found \"" + s + "\"");
+        p.fixed_resolve = s == "fixed";
+      }
     } else if (std::find(plugin_sections.begin(), plugin_sections.end(), key) != plugin_sections.end()) {
       p.plugins[key] = doc.at(key);  // validated by the plugin that owns the section
     } else {
       std::string allowed = "name, resolution, tile_size, shadow_map_size, shadow_distance, "
-                            "shadow_pcf_radius, frame_budget_ms, texture_decode_budget_mb, antialiasing";
+                            "shadow_pcf_radius, frame_budget_ms, texture_decode_budget_mb, antialiasing, precision";
       for (const std::string& s : plugin_sections) allowed += ", " + s;
       throw InputError(path, "unknown key '" + key + "' (allowed: " + allowed + ")");
     }

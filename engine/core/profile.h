@@ -29,6 +29,11 @@ struct Profile {
   // Anti-aliasing ("antialiasing": "none" | "msaa2" | "msaa4" | "msaa8"):
   // coverage and depth samples per pixel of the visibility buffer (1 = none).
   int msaa_samples = 1;
+  // The engine's kernels' precision ("precision": {"resolve": "float" |
+  // "fixed"}): the resolve from linear radiance to 8-bit sRGB through float
+  // arithmetic on each value (DisplayTransform), or through the value's
+  // 16-bit HDR code (hdr16) and one table of 65536 codes (Hdr16Display).
+  bool fixed_resolve = false;
   nlohmann::json plugins = nlohmann::json::object();  // raw plugin sections by name
 };
 

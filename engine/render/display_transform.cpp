@@ -5,6 +5,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "engine/core/hdr16.h"
 #include "engine/core/srgb.h"
 #include "engine/shading/tonemap.h"
 
@@ -83,6 +84,28 @@ uint8_t DisplayTransform::encode(float radiance) const {
 void DisplayTransform::resolve(const glm::vec3* hdr, size_t count, uint8_t* rgb_out) const {
   static_assert(sizeof(glm::vec3) == 3 * sizeof(float));
   encode_floats(reinterpret_cast<const float*>(hdr), 3 * count, exposure_, low_bits_, high_bits_, bucket_.data(), rgb_out);
+}
+
+Hdr16Display::Hdr16Display(const DisplayTransform& display) : ev100_(display.ev100()), table_(65536) {
+  for (uint32_t code = 0; code < 65536; ++code) table_[code] = display.encode(fx::decode_hdr16(uint16_t(code)));
+}
+
+uint8_t Hdr16Display::encode(float radiance) const { return uint8_t(table_[fx::encode_hdr16(radiance)]); }
+
+// The codes of a chunk in one loop that vectorises, then the table reads in
+// another (as gathers; in one loop GCC 12 vectorises neither).
+void Hdr16Display::resolve(const glm::vec3* hdr, size_t count, uint8_t* rgb_out) const {
+  const float* radiance = reinterpret_cast<const float*>(hdr);
+  const uint32_t* __restrict table = table_.data();
+  constexpr size_t kChunk = 256;
+  int32_t codes[kChunk];  // 32-bit indices: the table reads vectorise as gathers
+  for (size_t start = 0; start < 3 * count; start += kChunk) {
+    const size_t m = std::min(kChunk, 3 * count - start);
+    const float* __restrict in = radiance + start;
+    uint8_t* __restrict out = rgb_out + start;
+    for (size_t i = 0; i < m; ++i) codes[i] = fx::encode_hdr16(in[i]);
+    for (size_t i = 0; i < m; ++i) out[i] = uint8_t(table[codes[i]]);
+  }
 }
 
 }  // namespace cr

@@ -38,4 +38,22 @@ class DisplayTransform {
   std::vector<uint32_t> bucket_;
 };
 
+// The fixed-point resolve (profile "precision": {"resolve": "fixed"}): each
+// channel's radiance becomes its 16-bit HDR code (engine/core/hdr16.h:
+// integer operations on the float's bits, relative error <= 2^-11) and the
+// code indexes one table of 65536 8-bit codes, DisplayTransform::encode of
+// every code's value (exposure included). Codes differ from the float
+// resolve only for values within 2^-11 of a step of the display transform.
+class Hdr16Display {
+ public:
+  explicit Hdr16Display(const DisplayTransform& display);
+  float ev100() const { return ev100_; }
+  uint8_t encode(float radiance) const;
+  void resolve(const glm::vec3* hdr, size_t count, uint8_t* rgb_out) const;
+
+ private:
+  float ev100_;
+  std::vector<uint32_t> table_;  // per hdr16 code: its 8-bit code (32-bit entries: one vector gather reads 8 or 16)
+};
+
 }  // namespace cr

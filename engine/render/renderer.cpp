@@ -106,7 +106,7 @@ const FrameRecord& Renderer::render_frame(int frame) {
   add_shade_pass(graph, ctx, *surfaces_, engine, targets, !background_composited, pixels_shaded_);
   if (has_blended_draws_) add_transparent_pass(graph, ctx, *surfaces_, engine, targets);
   if (!compositors.empty()) add_composite_pass(graph, compositors, engine, targets);
-  add_resolve_pass(graph, ctx, display_, targets);
+  add_resolve_pass(graph, ctx, display_, fixed_display_, targets);
   graph.mark_output(targets.display);
   if (keep_view_distances_) graph.mark_output(engine.distance);
 

@@ -24,6 +24,7 @@
 namespace cr {
 
 class DisplayTransform;
+class Hdr16Display;
 struct ShadowPassState;
 class SurfaceLookup;
 struct Visibility;
@@ -79,6 +80,7 @@ class Renderer {
   bool keep_view_distances_ = false;               // computed even when no pass reads them
   bool has_blended_draws_ = false;                 // the scene has alpha-BLEND draws: a transparent pass
   std::unique_ptr<DisplayTransform> display_;  // built once per exposure
+  std::unique_ptr<Hdr16Display> fixed_display_;  // the same as a table of hdr16 codes (fixed-point resolve)
   FrameRecord record_;
   int last_frame_ = -1;
   std::function<void(int)> pose_;  // empty: a still scene

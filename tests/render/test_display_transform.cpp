@@ -9,6 +9,7 @@
 #include <random>
 #include <vector>
 
+#include "engine/core/hdr16.h"
 #include "engine/render/display_transform.h"
 #include "engine/shading/tonemap.h"
 
@@ -104,4 +105,31 @@ TEST_CASE("display transform resolve() of a pixel row equals encode() at every c
   t.resolve(hdr.data(), count, out.data());
   for (size_t i = 0; i < values.size(); ++i) REQUIRE(int(out[i]) == int(t.encode(values[i])));
   CHECK(out[3 * count] == 0xab);
+}
+
+TEST_CASE("fixed-point resolve: the table is encode() of every hdr16 code, and codes differ by at most one near steps") {
+  for (float ev100 : {-6.0f, 0.0f, 12.0f, 15.0f}) {
+    CAPTURE(ev100);
+    const cr::DisplayTransform display(ev100);
+    const cr::Hdr16Display fixed(display);
+    for (uint32_t code = 0; code < 65536; code += 7)
+      CHECK(fixed.encode(cr::fx::decode_hdr16(uint16_t(code))) == display.encode(cr::fx::decode_hdr16(uint16_t(code))));
+    // A dense geometric sweep over the displayed range (and beyond it both ways).
+    const float white = 1.2f * std::exp2(ev100);
+    size_t differing = 0, n = 0;
+    std::vector<glm::vec3> hdr;
+    for (float v = white * 1e-6f; v < white * 1e3f; v *= 1.0007f) hdr.push_back(glm::vec3(v, 0.5f * v, 2.0f * v));
+    std::vector<uint8_t> a(3 * hdr.size()), b(3 * hdr.size());
+    display.resolve(hdr.data(), hdr.size(), a.data());
+    fixed.resolve(hdr.data(), hdr.size(), b.data());
+    for (size_t i = 0; i < a.size(); ++i, ++n) {
+      CHECK(std::abs(int(a[i]) - int(b[i])) <= 1);
+      differing += a[i] != b[i] ? 1 : 0;
+    }
+    MESSAGE("EV100 " << ev100 << ": " << differing << " of " << n << " codes differ from the float resolve");
+    CHECK(double(differing) < 0.01 * double(n));  // only values within 2^-11 of a step
+    // Specials: NaN, negative and infinity as the float resolve treats them.
+    for (float v : {std::numeric_limits<float>::quiet_NaN(), -1.0f, 0.0f, std::numeric_limits<float>::infinity()})
+      CHECK(fixed.encode(v) == display.encode(v));
+  }
 }

@@ -19,6 +19,7 @@
 namespace cr {
 
 class DisplayTransform;
+class Hdr16Display;
 class SurfaceLookup;
 
 // The camera's visibility: the rasterizer (visibility buffer, bins), the
@@ -78,8 +79,9 @@ void add_transparent_pass(FrameGraph& graph, const FrameContext& ctx, const Surf
 void add_composite_pass(FrameGraph& graph, const std::vector<Plugin*>& compositors, const EngineResources& engine,
                         EngineTargets& targets);
 // "resolve": edge fragments into their pixels, exposure, tonemap, 8-bit sRGB.
-// `display` is rebuilt when the exposure changes.
+// `display` (and, for the profile's fixed-point resolve, `fixed_display`)
+// is rebuilt when the exposure changes.
 void add_resolve_pass(FrameGraph& graph, const FrameContext& ctx, std::unique_ptr<DisplayTransform>& display,
-                      EngineTargets& targets);
+                      std::unique_ptr<Hdr16Display>& fixed_display, EngineTargets& targets);
 
 }  // namespace cr
