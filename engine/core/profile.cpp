@@ -61,12 +61,19 @@ Profile parse_profile(const nlohmann::json& doc, const std::string& path,
       }
     } else if (key == "precision") {
       const JsonObject precision = root.object("precision");
-      precision.allow_only({"resolve"});
+      precision.allow_only({"resolve", "depth"});
       if (precision.has("resolve")) {
         const std::string s = precision.string("resolve");
         if (s != "float" && s != "fixed")
           precision.fail("resolve", "must be \"float\" or \"fixed\", found \"" + s + "\"");
         p.fixed_resolve = s == "fixed";
+      }
+      if (precision.has("depth")) {
+        const std::string s = precision.string("depth");
+        if (s == "float32") p.depth_format = DepthFormat::Float32;
+        else if (s == "unorm24") p.depth_format = DepthFormat::Unorm24;
+        else if (s == "float24") p.depth_format = DepthFormat::Float24;
+        else precision.fail("depth", "must be \"float32\", \"unorm24\" or \"float24\", found \"" + s + "\"");
       }
     } else if (std::find(plugin_sections.begin(), plugin_sections.end(), key) != plugin_sections.end()) {
       p.plugins[key] = doc.at(key);  // validated by the plugin that owns the section

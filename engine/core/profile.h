@@ -10,6 +10,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "engine/core/depth_format.h"
+
 namespace cr {
 
 struct Profile {
@@ -34,6 +36,9 @@ struct Profile {
   // arithmetic on each value (DisplayTransform), or through the value's
   // 16-bit HDR code (hdr16) and one table of 65536 codes (Hdr16Display).
   bool fixed_resolve = false;
+  // "precision": {"depth": "float32" | "unorm24" | "float24"}: the visibility
+  // buffer's depth format (depth_format.h).
+  DepthFormat depth_format = DepthFormat::Float32;
   nlohmann::json plugins = nlohmann::json::object();  // raw plugin sections by name
 };
 

@@ -38,6 +38,9 @@ inline F operator+(F a, F b) { return {_mm256_add_ps(a.v, b.v)}; }
 inline F operator*(F a, F b) { return {_mm256_mul_ps(a.v, b.v)}; }
 inline F max(F a, F b) { return {_mm256_max_ps(a.v, b.v)}; }  // maxps: b where unordered
 inline F min(F a, F b) { return {_mm256_min_ps(a.v, b.v)}; }  // minps: b where unordered
+inline I round_to_int(F a) { return {_mm256_cvtps_epi32(a.v)}; }  // nearest, ties to even (the default mode)
+inline I bits_of(F a) { return {_mm256_castps_si256(a.v)}; }
+inline F float_of(I a) { return {_mm256_castsi256_ps(a.v)}; }
 inline I greater(F a, F b) { return {_mm256_castps_si256(_mm256_cmp_ps(a.v, b.v, _CMP_GT_OQ))}; }
 inline F load(const float* p) { return {_mm256_loadu_ps(p)}; }
 inline I load(const uint32_t* p) { return {_mm256_loadu_si256(reinterpret_cast<const __m256i*>(p))}; }
@@ -82,6 +85,9 @@ inline F operator+(F a, F b) { return {_mm_add_ps(a.lo, b.lo), _mm_add_ps(a.hi, 
 inline F operator*(F a, F b) { return {_mm_mul_ps(a.lo, b.lo), _mm_mul_ps(a.hi, b.hi)}; }
 inline F max(F a, F b) { return {_mm_max_ps(a.lo, b.lo), _mm_max_ps(a.hi, b.hi)}; }
 inline F min(F a, F b) { return {_mm_min_ps(a.lo, b.lo), _mm_min_ps(a.hi, b.hi)}; }
+inline I round_to_int(F a) { return {_mm_cvtps_epi32(a.lo), _mm_cvtps_epi32(a.hi)}; }
+inline I bits_of(F a) { return {_mm_castps_si128(a.lo), _mm_castps_si128(a.hi)}; }
+inline F float_of(I a) { return {_mm_castsi128_ps(a.lo), _mm_castsi128_ps(a.hi)}; }
 inline I greater(F a, F b) {
   return {_mm_castps_si128(_mm_cmpgt_ps(a.lo, b.lo)), _mm_castps_si128(_mm_cmpgt_ps(a.hi, b.hi))};
 }
@@ -103,6 +109,11 @@ inline void store(uint32_t* p, I v, I mask, unsigned) {
 }
 
 #endif
+
+// Depth in [0, 1] rounded to 24-bit unorm (steps of 2^-24) and to a 24-bit
+// float (the float's last 7 mantissa bits rounded off, ties up).
+inline F quantize_unorm24(F z) { return to_float(round_to_int(z * fset1(16777216.0f))) * fset1(1.0f / 16777216.0f); }
+inline F quantize_float24(F z) { return float_of((bits_of(z) + iset1(0x40)) & iset1(int32_t(0xFFFFFF80u))); }
 
 // All ones in the lanes whose bit is set in `m` (8 bits).
 inline I from_bits(unsigned m) {

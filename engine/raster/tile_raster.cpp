@@ -96,7 +96,9 @@ struct TriangleWalk {
     float* zrow = ctx.depth + size_t(y - ctx.y0) * ctx.stride + (x - ctx.x0);
     const F zxfx = zx * to_float(iset1(x - t.ref_x) + lanes());
     const F zyfy = fset1(t.zy * float(y - t.ref_y));
-    const F z = min(max(z0 + (zxfx + zyfy), zmin), zmax);
+    F z = min(max(z0 + (zxfx + zyfy), zmin), zmax);
+    if (ctx.target->depth_format == DepthFormat::Unorm24) z = quantize_unorm24(z);
+    if (ctx.target->depth_format == DepthFormat::Float24) z = quantize_float24(z);
     I pass = greater(z, load(zrow)) & cov;
     unsigned pass_bits = bits(pass);
     if (!pass_bits) return;

@@ -37,6 +37,7 @@
 #include <cstdint>
 #include <span>
 
+#include "engine/core/depth_format.h"
 #include "engine/raster/raster_types.h"
 #include "engine/raster/sample_pattern.h"
 #include "engine/raster/tile_binner.h"
@@ -59,6 +60,7 @@ struct TileTarget {
   const FragmentFn* fragment = nullptr;  // Blended
   SamplePattern pattern;                 // Visibility, Blended: samples per pixel (else 1)
   MixedSamples* mixed = nullptr;         // Visibility with several samples: this tile's mixed pixels
+  DepthFormat depth_format = DepthFormat::Float32;  // each sample's depth rounded to it before test and store
 };
 
 void raster_tile(int tile, const TileGrid& grid, std::span<const GeometryChunk> chunks, const TileTarget& target,

@@ -125,7 +125,7 @@ void TiledRasterizer::raster(JobSystem& jobs, GeometrySet set, const TileGrid& g
 
 const RasterStats& TiledRasterizer::render_visibility(JobSystem& jobs, int width, int height, int tile_size,
                                                       std::span<const RasterDraw> draws, const CoverageFn& coverage,
-                                                      int samples) {
+                                                      int samples, DepthFormat depth_format) {
   check_image_size(width, height);
   check_coverage(draws, coverage);
   const TileGrid grid = TileGrid::make(width, height, tile_size);
@@ -134,6 +134,7 @@ const RasterStats& TiledRasterizer::render_visibility(JobSystem& jobs, int width
   visibility_.height = height;
   visibility_.pattern = sample_pattern(samples);
   visibility_.grid = grid;
+  visibility_.depth_format = depth_format;
   visibility_.depth.resize(size_t(width) * height);
   visibility_.triangle.resize(size_t(width) * height);
   visibility_.mixed.resize(samples > 1 ? size_t(grid.tile_count()) : 0);
@@ -145,6 +146,7 @@ const RasterStats& TiledRasterizer::render_visibility(JobSystem& jobs, int width
   target.ids = visibility_.triangle.data();
   target.coverage = &coverage;
   target.pattern = visibility_.pattern;
+  target.depth_format = depth_format;
   raster(jobs, kOpaque, grid, target, visibility_.mixed);
   visibility_grid_ = grid;
   return geometry_[kOpaque].stats;
@@ -166,6 +168,7 @@ const RasterStats& TiledRasterizer::render_blended(JobSystem& jobs, std::span<co
   target.stride = visibility_.width;
   target.opaque_depth = opaque_depth.empty() ? visibility_.depth.data() : opaque_depth.data();
   target.fragment = &fragment;
+  target.depth_format = visibility_.depth_format;
   raster(jobs, kBlended, visibility_grid_, target);
   return geometry_[kBlended].stats;
 }

@@ -47,6 +47,7 @@ struct VisibilityBuffer {
   SamplePattern pattern;           // sample positions (1: the pixel centre)
   TileGrid grid;                   // the tiles `mixed` is listed by
   std::vector<float> depth;        // reversed-Z NDC depth; 0 = nothing drawn
+  DepthFormat depth_format = DepthFormat::Float32;  // the values of `depth` are of this format
   std::vector<uint32_t> triangle;  // triangle id; kNoTriangle = nothing drawn
   std::vector<MixedSamples> mixed;  // per tile (row-major tiles); empty with one sample
 
@@ -70,9 +71,11 @@ class TiledRasterizer {
   // Back faces of single-sided draws are culled. `coverage` is required when
   // a draw has alpha_mask; it may be called concurrently for different
   // pixels, at each sample's position.
+  // Each sample's depth is rounded to `depth_format` before the test and the
+  // store (render_blended's test uses the same format).
   const RasterStats& render_visibility(JobSystem& jobs, int width, int height, int tile_size,
                                        std::span<const RasterDraw> draws, const CoverageFn& coverage = {},
-                                       int samples = 1);
+                                       int samples = 1, DepthFormat depth_format = DepthFormat::Float32);
   const VisibilityBuffer& visibility() const { return visibility_; }
 
   // Blended draws, given back to front (see blend_order.h), at the samples of

@@ -109,13 +109,18 @@ TEST_CASE("profile: antialiasing names a sample count; anything else names the c
   CHECK(parse_error({{"antialiasing", 4}}).find("antialiasing") != std::string::npos);
 }
 
-TEST_CASE("profile: precision names the resolve's kernel; anything else names the choices") {
+TEST_CASE("profile: precision names the resolve's kernel and the depth format, anything else names the choices") {
   CHECK_FALSE(cr::parse_profile(nlohmann::json::object(), "inline.json", kPlugins).fixed_resolve);
   CHECK(cr::parse_profile({{"precision", {{"resolve", "fixed"}}}}, "inline.json", kPlugins).fixed_resolve);
   CHECK_FALSE(cr::parse_profile({{"precision", {{"resolve", "float"}}}}, "inline.json", kPlugins).fixed_resolve);
   const std::string bad_value = parse_error({{"precision", {{"resolve", "half"}}}});
   CHECK(bad_value.find("precision.resolve") != std::string::npos);
   CHECK(bad_value.find("\"fixed\"") != std::string::npos);
-  CHECK(parse_error({{"precision", {{"depth", "unorm24"}}}}).find("depth") != std::string::npos);
+  CHECK(cr::parse_profile({{"precision", {{"depth", "unorm24"}}}}, "inline.json", kPlugins).depth_format ==
+        cr::DepthFormat::Unorm24);
+  CHECK(cr::parse_profile({{"precision", {{"depth", "float24"}}}}, "inline.json", kPlugins).depth_format ==
+        cr::DepthFormat::Float24);
+  CHECK(parse_error({{"precision", {{"depth", "unorm16"}}}}).find("precision.depth") != std::string::npos);
+  CHECK(parse_error({{"precision", {{"stencil", "x"}}}}).find("stencil") != std::string::npos);
   CHECK(parse_error({{"precision", "fixed"}}).find("precision") != std::string::npos);
 }

@@ -54,7 +54,7 @@ void add_geometry_pass(FrameGraph& graph, const FrameContext& ctx, EngineResourc
     const int samples = ctx.profile.msaa_samples;
     cull_and_sort(ctx.scene, cam, vis);
     vis.stats = vis.raster.render_visibility(jobs, buffers.width, buffers.height, ctx.profile.tile_size, vis.opaque,
-                                             alpha_coverage(ctx.scene, vis.raster), samples);
+                                             alpha_coverage(ctx.scene, vis.raster), samples, ctx.profile.depth_format);
     if (samples == 1) {
       buffers.depth = vis.raster.visibility().depth;
       buffers.fragments.clear();
