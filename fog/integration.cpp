@@ -12,16 +12,30 @@
 // (fully lit or shadowed air, where every sample agrees), and a column's
 // volume up to its first changed slice is what it was: incremental
 // integration starts each column there.
+//
+// The fixed-point recurrence (FixedVolume, fixed_volume.h) evaluates the
+// same terms in float and quantises them: each slice's optical depth in log2
+// units as Q16.16, summed with saturation (transmittance cannot wrap or
+// rise), the transmittance T = exp2_neg_q15(depth), and each slice's source
+// over its extinction as q15 of the column's largest (per channel). A slice
+// adds source * (T_before - T_after): a q15 x q15 product, summed exactly in
+// 32 bits (at most 32767^2 < 2^30), with no rounding along the column. Each
+// froxel stores the sum as radiance in hdr16 and the depth in Q5.11. Its
+// state is wider than what it stores, so a changed column is integrated
+// whole (unchanged columns keep their volume).
 #include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <type_traits>
 
 #include <immintrin.h>
 
+#include "fog/fixed_volume.h"
 #include "fog/froxel_passes.h"
 #include "fog/homogeneous_medium.h"
 #include "fog/phase_function.h"
+#include "fog/sun_term_format.h"
 
 namespace cr {
 
@@ -76,16 +90,20 @@ void column_terms(const FogDensity* __restrict d, const float* __restrict visibi
 
 // The first k < n where a[k] and b[k] differ bit for bit (n if none), from
 // slice k0 (blocks before it are known to agree).
-int first_difference_from(const float* a, const float* b, int k0, int n) {
+template <class V>
+int first_difference_from(const V* a, const V* b, int k0, int n) {
+  using Bits = std::conditional_t<sizeof(V) == 4, uint32_t, uint16_t>;
   for (int k = k0; k < n; ++k)
-    if (std::bit_cast<uint32_t>(a[k]) != std::bit_cast<uint32_t>(b[k])) return k;
+    if (std::bit_cast<Bits>(a[k]) != std::bit_cast<Bits>(b[k])) return k;
   return n;
 }
 
-// The same, eight slices to a compare where the CPU has AVX2.
-__attribute__((target("avx2"))) int first_difference_avx2(const float* a, const float* b, int n) {
+// The same, 32 bytes (8 floats or 16 codes) to a compare where the CPU has AVX2.
+template <class V>
+__attribute__((target("avx2"))) int first_difference_avx2(const V* a, const V* b, int n) {
+  constexpr int kBlock = 32 / int(sizeof(V));
   int k = 0;
-  for (; k + 8 <= n; k += 8) {
+  for (; k + kBlock <= n; k += kBlock) {
     const __m256i x = _mm256_xor_si256(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(a + k)),
                                        _mm256_loadu_si256(reinterpret_cast<const __m256i*>(b + k)));
     if (!_mm256_testz_si256(x, x)) break;
@@ -93,10 +111,118 @@ __attribute__((target("avx2"))) int first_difference_avx2(const float* a, const 
   return first_difference_from(a, b, k, n);
 }
 
-int first_difference(const float* a, const float* b, int n) {
+template <class V>
+int first_difference(const V* a, const V* b, int n) {
   static const bool avx2 = __builtin_cpu_supports("avx2");
   return avx2 ? first_difference_avx2(a, b, n) : first_difference_from(a, b, 0, n);
 }
+
+// The float recurrence of a column from slice s (the volume before s kept).
+struct FloatColumn {
+  using Visibility = float;
+  using Froxel = IntegratedFroxel;
+  static constexpr bool kResumesInside = true;  // a changed column continues from its first change
+  ColumnTerms terms;
+  explicit FloatColumn(int nz) : terms(nz) {}
+
+  void integrate(const FogDensity* column, const float* visibility, const float* dt, const float* center, int s,
+                 int n, int nz, const ColumnLight& light, IntegratedFroxel* volume) {
+    const FogDensity* d = column + s;
+    // The terms run to a whole number of 8-slice blocks (within the
+    // column): the vectorised loop then has no scalar remainder, and the
+    // slices past n, stale but finite, are computed and never read.
+    const int whole_blocks = std::min((n - s + 7) / 8 * 8, nz - s);
+    column_terms(d, visibility + s, dt + s, center + s, whole_blocks, light, terms);
+    // The front-to-back recurrence, from the volume at slice s - 1.
+    IntegratedFroxel* out = volume + s;
+    glm::vec3 in_scatter = s > 0 ? out[-1].in_scatter : glm::vec3(0.0f);
+    float transmittance = s > 0 ? out[-1].transmittance : 1.0f;
+    for (int k = 0; k < n - s; ++k) {
+      const float tw = transmittance * terms.weight[size_t(k)];
+      in_scatter.x += terms.r[size_t(k)] * tw;
+      in_scatter.y += terms.g[size_t(k)] * tw;
+      in_scatter.z += terms.b[size_t(k)] * tw;
+      transmittance *= 1.0f - terms.opacity[size_t(k)];
+      out[k] = IntegratedFroxel{in_scatter, transmittance, d[k].extinction};
+    }
+  }
+};
+
+// Largest Q16.16 log2 optical depth: 32, where the stored Q5.11 code
+// saturates (the transmittance is 0 from 17). A slice's depth and the sum
+// saturate there, so neither can wrap.
+constexpr uint32_t kDepthCap = uint32_t(32) << 16;
+constexpr float kDepthPerNeper = 65536.0f / 0.693147181f;  // Q16.16 log2 units per unit of optical depth
+
+// A slice's optical depth in Q16.16 log2 units, rounded to nearest,
+// saturated at kDepthCap (NaN -> 0).
+inline uint32_t depth_q16_16(float optical) {
+  const float x = optical * kDepthPerNeper;
+  return !(x > 0.0f) ? 0u : x < float(kDepthCap) ? uint32_t(std::nearbyint(x)) : kDepthCap;
+}
+
+// The fixed-point recurrence of a whole column (see the top of the file).
+struct FixedColumn {
+  using Visibility = uint16_t;
+  using Froxel = FixedIntegratedFroxel;
+  static constexpr bool kResumesInside = false;  // a changed column starts over
+  std::vector<uint32_t> depth;  // per slice: Q16.16 log2 optical depth
+  std::vector<float> source[3];  // per slice and channel: scattered radiance over extinction
+  std::vector<uint16_t> share[3];  // the same as q15 of the column's largest
+  explicit FixedColumn(int nz) : depth(size_t(nz)) {
+    for (int c = 0; c < 3; ++c) {
+      source[c].resize(size_t(nz));
+      share[c].resize(size_t(nz));
+    }
+  }
+
+  void integrate(const FogDensity* column, const uint16_t* visibility, const float* dt, const float* center, int,
+                 int n, int, const ColumnLight& light, FixedIntegratedFroxel* out) {
+    static_assert(sizeof(FogDensity) == 4 * sizeof(float));
+    const float* __restrict m = reinterpret_cast<const float*>(column);
+    uint32_t* __restrict slice_depth = depth.data();
+    float* __restrict src[3] = {source[0].data(), source[1].data(), source[2].data()};
+    // The terms of column_terms: r / sigma is the slice's source (its
+    // in-scatter per unit of 1 - transmittance), never negative.
+    for (int k = 0; k < n; ++k) {
+      const float sigma = m[4 * k + 3];
+      slice_depth[k] = depth_q16_16(sigma * dt[k]);
+      const float per_extinction = sigma > 0.0f ? 1.0f / sigma : 0.0f;
+      const float along = center[k] - light.t_first;
+      const float vp = Q15SunTerm::decode(visibility[k]) * light.phase;
+      for (int c = 0; c < 3; ++c)
+        src[c][k] = std::max(m[4 * k + c] * (std::max(light.e0[c] + light.de[c] * along, 0.0f) * vp + light.ambient[c]),
+                             0.0f) * per_extinction;
+    }
+    // Shares of the column's largest source per channel, so a dark column
+    // keeps its precision; radiance per unit of the exact sum below.
+    float scale[3];
+    for (int c = 0; c < 3; ++c) {
+      const float largest = *std::max_element(src[c], src[c] + n);
+      const float per_largest = largest > 0.0f ? 1.0f / largest : 0.0f;
+      for (int k = 0; k < n; ++k) share[c][size_t(k)] = fx::encode_q15(src[c][k] * per_largest);
+      scale[c] = largest * 0x1p-30f;
+    }
+    // The recurrence: T is exp2_neg_q15 of the saturated depth, so it never
+    // rises and T_before - T_after >= 0; each sum stays below 32767^2.
+    uint32_t sum_depth = 0;
+    uint32_t before = fx::exp2_neg_q15(0);
+    uint32_t in_scatter[3] = {0, 0, 0};
+    for (int k = 0; k < n; ++k) {
+      sum_depth = std::min(sum_depth + slice_depth[k], kDepthCap);
+      const uint32_t after = fx::exp2_neg_q15(sum_depth);
+      const uint32_t step = before - after;
+      before = after;
+      FixedIntegratedFroxel& f = out[k];
+      for (int c = 0; c < 3; ++c) {
+        in_scatter[c] += uint32_t(share[c][size_t(k)]) * step;
+        f.in_scatter[c] = fx::encode_hdr16(float(in_scatter[c]) * scale[c]);
+      }
+      f.optical_depth = uint16_t(std::min<uint32_t>((sum_depth + (1u << (kOpticalDepthShift - 1))) >> kOpticalDepthShift,
+                                                    0xFFFF));
+    }
+  }
+};
 
 }  // namespace
 
@@ -121,13 +247,19 @@ std::vector<glm::vec3> sun_knots(const FroxelView& view, const MediumLighting& l
   return out;
 }
 
-size_t integrate_columns(const FroxelView& view, const std::vector<FogDensity>& density,
-                         const std::vector<float>& sun_visibility, const MediumLighting& lighting,
-                         const std::vector<glm::vec3>& knots, JobSystem& jobs, std::vector<IntegratedFroxel>& volume,
-                         const IncrementalIntegration& incremental) {
+namespace {
+
+// integrate_columns over rows of columns, each column by a Column
+// (FloatColumn, FixedColumn): the sun's illuminance, phase and ambient per
+// column, and where each column starts.
+template <class Column, class V = typename Column::Visibility, class Froxel = typename Column::Froxel>
+size_t integrate_rows(const FroxelView& view, const std::vector<FogDensity>& density,
+                      const std::vector<V>& sun_visibility, const MediumLighting& lighting,
+                      const std::vector<glm::vec3>& knots, JobSystem& jobs, std::vector<Froxel>& volume,
+                      const IncrementalIntegration<V>& incremental) {
   const FroxelGrid& g = view.grid;
   volume.resize(g.count());
-  float* previous = nullptr;
+  V* previous = nullptr;
   if (incremental.previous) {
     incremental.previous->resize(g.count());
     previous = incremental.previous->data();
@@ -144,7 +276,7 @@ size_t integrate_columns(const FroxelView& view, const std::vector<FogDensity>& 
   const std::array<float, 3> zonal = phase_zonal_coefficients(lighting.phase, lighting.anisotropy);
   const size_t row_knots = size_t(sun_knots_per_row(nx)) * 2;
   jobs.parallel_for("fog.integrate", size_t(g.ny()), 1, [&](size_t begin, size_t end) {
-    ColumnTerms terms(nz);
+    Column column(nz);
     // Per row of columns: the sun's illuminance at each column's ends,
     // lerped between the knots.
     std::vector<glm::vec3> e(size_t(nx) * 2, lighting.sun_illuminance);
@@ -163,13 +295,16 @@ size_t integrate_columns(const FroxelView& view, const std::vector<FogDensity>& 
         }
       }
       // Where each column of the row starts (its first changed slice when
-      // resuming). Resumed columns read their density and the volume from
-      // there, which the hardware prefetcher cannot guess: both are
-      // requested for the whole row first.
+      // resuming; 0 for a changed column of a Column that starts over).
+      // Resumed columns read their density and the volume from there, which
+      // the hardware prefetcher cannot guess: both are requested for the
+      // whole row first.
       for (int x = 0; resume && x < nx; ++x) {
         const int n = view.active_slices[size_t(y) * nx + x];
         const size_t base = g.index(x, y, 0);
-        const int s = start[size_t(x)] = first_difference(sun_visibility.data() + base, previous + base, n);
+        int s = first_difference(sun_visibility.data() + base, previous + base, n);
+        if (!Column::kResumesInside && s < n) s = 0;
+        start[size_t(x)] = s;
         if (s == n) continue;
         const char* from = reinterpret_cast<const char*>(density.data() + base + s);
         const char* to = reinterpret_cast<const char*>(density.data() + base + n);
@@ -189,27 +324,11 @@ size_t integrate_columns(const FroxelView& view, const std::vector<FogDensity>& 
         light.phase = evaluate_phase(lighting.phase, glm::dot(dir, lighting.sun_direction), lighting.anisotropy);
         light.ambient = phase_convolved_ambient(lighting.ambient_sh, zonal, dir);
         const size_t base = g.index(x, y, 0);
-        const float* visibility = sun_visibility.data() + base;
+        const V* visibility = sun_visibility.data() + base;
         if (previous) std::copy(visibility + s, visibility + n, previous + base + size_t(s));
         integrated += size_t(n - s);
-        const FogDensity* d = density.data() + base + s;
-        // The terms run to a whole number of 8-slice blocks (within the
-        // column): the vectorised loop then has no scalar remainder, and the
-        // slices past n, stale but finite, are computed and never read.
-        const int whole_blocks = std::min((n - s + 7) / 8 * 8, nz - s);
-        column_terms(d, visibility + s, dt.data() + s, center.data() + s, whole_blocks, light, terms);
-        // The front-to-back recurrence, from the volume at slice s - 1.
-        IntegratedFroxel* out = volume.data() + base + s;
-        glm::vec3 in_scatter = s > 0 ? out[-1].in_scatter : glm::vec3(0.0f);
-        float transmittance = s > 0 ? out[-1].transmittance : 1.0f;
-        for (int k = 0; k < n - s; ++k) {
-          const float tw = transmittance * terms.weight[size_t(k)];
-          in_scatter.x += terms.r[size_t(k)] * tw;
-          in_scatter.y += terms.g[size_t(k)] * tw;
-          in_scatter.z += terms.b[size_t(k)] * tw;
-          transmittance *= 1.0f - terms.opacity[size_t(k)];
-          out[k] = IntegratedFroxel{in_scatter, transmittance, d[k].extinction};
-        }
+        column.integrate(density.data() + base, visibility, dt.data(), center.data(), s, n, nz, light,
+                         volume.data() + base);
       }
       integrated_per_row[size_t(y)] = integrated;
     }
@@ -217,6 +336,22 @@ size_t integrate_columns(const FroxelView& view, const std::vector<FogDensity>& 
   size_t integrated = 0;
   for (size_t r : integrated_per_row) integrated += r;
   return integrated;
+}
+
+}  // namespace
+
+size_t integrate_columns(const FroxelView& view, const std::vector<FogDensity>& density,
+                         const std::vector<float>& sun_visibility, const MediumLighting& lighting,
+                         const std::vector<glm::vec3>& knots, JobSystem& jobs, std::vector<IntegratedFroxel>& volume,
+                         const IncrementalIntegration<float>& incremental) {
+  return integrate_rows<FloatColumn>(view, density, sun_visibility, lighting, knots, jobs, volume, incremental);
+}
+
+size_t integrate_columns(const FroxelView& view, const std::vector<FogDensity>& density,
+                         const std::vector<uint16_t>& sun_visibility, const MediumLighting& lighting,
+                         const std::vector<glm::vec3>& knots, JobSystem& jobs,
+                         std::vector<FixedIntegratedFroxel>& volume, const IncrementalIntegration<uint16_t>& incremental) {
+  return integrate_rows<FixedColumn>(view, density, sun_visibility, lighting, knots, jobs, volume, incremental);
 }
 
 }  // namespace cr

@@ -4,12 +4,15 @@
 
 #include <immintrin.h>
 
+#include "fog/sun_term_format.h"
+
 namespace cr {
 
 namespace {
 
 // Bit b of the result: whether h[b] == value, for b < count (<= 64).
-uint64_t equal_bits_scalar(const float* h, int count, float value) {
+template <class V>
+uint64_t equal_bits_scalar(const V* h, int count, V value) {
   uint64_t bits = 0;
   for (int b = 0; b < count; ++b) bits |= uint64_t(h[b] == value) << b;
   return bits;
@@ -29,12 +32,21 @@ __attribute__((target("avx2"))) uint64_t equal_bits_avx2(const float* h, int cou
 
 void zero_one_masks(const float* values, int lit, int words, uint64_t* out) {
   static const bool avx2 = __builtin_cpu_supports("avx2");
-  const auto equal_bits = avx2 ? equal_bits_avx2 : equal_bits_scalar;
+  const auto equal_bits = avx2 ? equal_bits_avx2 : equal_bits_scalar<float>;
   for (int w = 0; w < words; ++w) {
     const int count = lit_in_word(lit, w);
     const uint64_t free = ~low_bits(count);
     out[w] = equal_bits(values + 64 * w, count, 0.0f) | free;
     out[words + w] = equal_bits(values + 64 * w, count, 1.0f) | free;
+  }
+}
+
+void zero_one_masks(const uint16_t* codes, int lit, int words, uint64_t* out) {
+  for (int w = 0; w < words; ++w) {
+    const int count = lit_in_word(lit, w);
+    const uint64_t free = ~low_bits(count);
+    out[w] = equal_bits_scalar(codes + 64 * w, count, Q15SunTerm::kZero) | free;
+    out[words + w] = equal_bits_scalar(codes + 64 * w, count, Q15SunTerm::kOne) | free;
   }
 }
 

@@ -39,7 +39,7 @@ TEST_CASE("incremental integration gives the full integration's bits and integra
     m.ambient_sh[2] = glm::vec3(5.0f);
     std::vector<IntegratedFroxel> volume;
     std::vector<float> previous;
-    IncrementalIntegration first;
+    IncrementalIntegration<float> first;
     first.previous = &previous;
     CHECK(integrate_columns(view, density, visibility, m, {}, jobs, volume, first) > 0);
     // Per column: unchanged, changed from a random slice on, or one slice changed.
@@ -54,7 +54,7 @@ TEST_CASE("incremental integration gives the full integration's bits and integra
       if (what == 2) v[from] = 1.0f - v[from] + 0.25f;
       if (what != 0) expected_count += size_t(n - from);
     }
-    IncrementalIntegration next;
+    IncrementalIntegration<float> next;
     next.previous = &previous;
     next.continue_volume = true;
     const size_t integrated = integrate_columns(view, density, visibility, m, {}, jobs, volume, next);

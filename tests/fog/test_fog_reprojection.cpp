@@ -212,8 +212,8 @@ TEST_CASE("the moving-camera history read gives its one-slice definition's bits"
     // Most history columns whole, the rest culled at random lengths.
     for (auto& lit : c.view.lit_slices)
       if (coin(rng) != 0) lit = uint16_t(g.nz());
-    const HistoryProjection projection(c.view, c.history);
-    HistoryProjection::Scratch scratch(g.nz());
+    const HistoryProjection<FloatSunTerm> projection(c.view, c.history);
+    HistoryProjection<FloatSunTerm>::Scratch scratch(g.nz());
     std::vector<float> cur(size_t(g.nz())), fast(size_t(g.nz())), definition(size_t(g.nz()));
     size_t last_slice = 0, compared = 0;
     for (int column = 0; column < 400; ++column) {
@@ -257,8 +257,8 @@ TEST_CASE("a moving camera's clamped reprojection reads history only where the 3
     REQUIRE_FALSE(stats.identity);
     // The definition: every lit froxel's history projected and read, clamped
     // to its 3x3 range, blended.
-    const HistoryProjection projection(history_view, c.history);
-    HistoryProjection::Scratch scratch(g.nz());
+    const HistoryProjection<FloatSunTerm> projection(history_view, c.history);
+    HistoryProjection<FloatSunTerm>::Scratch scratch(g.nz());
     const Camera& hc = history_view.camera;
     const glm::vec3 offset_world(c.view.camera.position - hc.position);
     const glm::vec3 offset(glm::dot(offset_world, hc.right), glm::dot(offset_world, hc.up),
