@@ -29,7 +29,7 @@
 // volume's own floats, or the fixed-point volume's codes decoded
 // (fixed_volume.h). Everything after the read is the same float code.
 #include <algorithm>
-#include <array>
+#include <vector>
 #include <cmath>
 #include <cstddef>
 #include <limits>
@@ -59,23 +59,33 @@ struct FloatFroxels {
 
 // The fixed-point volume, decoded: radiance from hdr16, transmittance as
 // q15 of the depth code, extinction from the depth codes of the slice's two
-// boundaries (the near plane's is 0) over its thickness.
+// boundaries (the near plane's is 0) over its thickness. A record decodes
+// each channel as it is read (a run's radiance-only reads skip the
+// transmittance's table lookups).
 struct FixedFroxels {
+  struct Record {
+    const FixedIntegratedFroxel* f;
+    float operator[](int ch) const {
+      return ch < 3 ? fx::decode_hdr16(f->in_scatter[ch]) : Q15SunTerm::decode(transmittance_q15(f->optical_depth));
+    }
+  };
   const FixedIntegratedFroxel* volume;
-  const FroxelGrid* grid;
-  std::array<float, 4> record(size_t i) const {
-    const FixedIntegratedFroxel& f = volume[i];
-    return {fx::decode_hdr16(f.in_scatter[0]), fx::decode_hdr16(f.in_scatter[1]), fx::decode_hdr16(f.in_scatter[2]),
-            Q15SunTerm::decode(transmittance_q15(f.optical_depth))};
+  std::vector<float> extinction_per_code;  // per slice: the extinction of one depth code
+  FixedFroxels(const FixedIntegratedFroxel* v, const FroxelGrid& grid)
+      : volume(v), extinction_per_code(size_t(grid.nz())) {
+    for (int k = 0; k < grid.nz(); ++k) {
+      const float dt = grid.thickness(k);
+      extinction_per_code[size_t(k)] = dt > 0.0f ? kOpticalDepthPerCode / dt : 0.0f;
+    }
   }
+  Record record(size_t i) const { return Record{volume + i}; }
   __m128 load(size_t i) const {
-    const std::array<float, 4> r = record(i);
-    return _mm_loadu_ps(r.data());
+    const Record r = record(i);
+    return _mm_setr_ps(r[0], r[1], r[2], r[3]);
   }
   float extinction(size_t i, int k) const {
     const int before = k > 0 ? volume[i - 1].optical_depth : 0;
-    const float dt = grid->thickness(k);
-    return dt > 0.0f ? float(volume[i].optical_depth - before) * kOpticalDepthPerCode / dt : 0.0f;
+    return float(volume[i].optical_depth - before) * extinction_per_code[size_t(k)];
   }
 };
 
@@ -487,7 +497,7 @@ void lookup_fog(const FroxelGrid& g, const std::vector<IntegratedFroxel>& volume
 
 void lookup_fog(const FroxelGrid& g, const std::vector<FixedIntegratedFroxel>& volume, float px, float py,
                 float distance, glm::vec3& in_scatter, float& transmittance) {
-  lookup(g, FixedFroxels{volume.data(), &g}, px, py, distance, in_scatter, transmittance);
+  lookup(g, FixedFroxels(volume.data(), g), px, py, distance, in_scatter, transmittance);
 }
 
 void composite_fog(const FroxelGrid& grid, const std::vector<IntegratedFroxel>& volume,
@@ -499,7 +509,7 @@ void composite_fog(const FroxelGrid& grid, const std::vector<IntegratedFroxel>& 
 void composite_fog(const FroxelGrid& grid, const std::vector<FixedIntegratedFroxel>& volume,
                    const std::vector<float>& distance, std::vector<glm::vec3>& color, int width, int x0, int y0,
                    int x1, int y1) {
-  composite_rows(grid, FixedFroxels{volume.data(), &grid}, distance, color, width, x0, y0, x1, y1);
+  composite_rows(grid, FixedFroxels(volume.data(), grid), distance, color, width, x0, y0, x1, y1);
 }
 
 void composite_fog_fragments(const FroxelGrid& grid, const std::vector<IntegratedFroxel>& volume,
@@ -509,13 +519,13 @@ void composite_fog_fragments(const FroxelGrid& grid, const std::vector<Integrate
 
 void composite_fog_fragments(const FroxelGrid& grid, const std::vector<FixedIntegratedFroxel>& volume,
                              std::span<EdgeFragment> fragments) {
-  composite_fragments(grid, FixedFroxels{volume.data(), &grid}, fragments);
+  composite_fragments(grid, FixedFroxels(volume.data(), grid), fragments);
 }
 
 IntegratedFroxel decode_froxel(const FroxelGrid& grid, const std::vector<FixedIntegratedFroxel>& volume,
                                size_t index) {
-  const FixedFroxels froxels{volume.data(), &grid};
-  const std::array<float, 4> r = froxels.record(index);
+  const FixedFroxels froxels(volume.data(), grid);
+  const FixedFroxels::Record r = froxels.record(index);
   const int k = int(index % size_t(grid.nz()));
   return IntegratedFroxel{glm::vec3(r[0], r[1], r[2]), r[3], froxels.extinction(index, k)};
 }

@@ -33,6 +33,7 @@
 
 #include "fog/fixed_volume.h"
 #include "fog/froxel_passes.h"
+#include "fog/hdr16_lanes.h"
 #include "fog/homogeneous_medium.h"
 #include "fog/phase_function.h"
 #include "fog/sun_term_format.h"
@@ -155,24 +156,51 @@ constexpr uint32_t kDepthCap = uint32_t(32) << 16;
 constexpr float kDepthPerNeper = 65536.0f / 0.693147181f;  // Q16.16 log2 units per unit of optical depth
 
 // A slice's optical depth in Q16.16 log2 units, rounded to nearest,
-// saturated at kDepthCap (NaN -> 0).
+// saturated at kDepthCap (NaN -> 0). Branch-free, so the terms vectorise.
 inline uint32_t depth_q16_16(float optical) {
   const float x = optical * kDepthPerNeper;
-  return !(x > 0.0f) ? 0u : x < float(kDepthCap) ? uint32_t(std::nearbyint(x)) : kDepthCap;
+  return uint32_t(int32_t(std::nearbyint(std::min(x > 0.0f ? x : 0.0f, float(kDepthCap)))));
 }
 
-// The fixed-point recurrence of a whole column (see the top of the file).
+// column_terms' source r / sigma per channel: the slice's in-scatter per
+// unit of 1 - transmittance, never negative; vp (visibility times phase) is
+// overwritten with the slice's optical depth.
+void sources(const float* __restrict m, float* __restrict vp, const float* __restrict dt,
+             const float* __restrict center, int n, const ColumnLight& light, float* __restrict r,
+             float* __restrict g, float* __restrict b) {
+  const glm::vec3 e0 = light.e0, de = light.de, ambient = light.ambient;
+  const float t_first = light.t_first;
+  for (int k = 0; k < n; ++k) {
+    const float sigma = m[4 * k + 3];
+    const float per_extinction = sigma > 0.0f ? 1.0f / sigma : 0.0f;
+    const float along = center[k] - t_first;
+    r[k] = std::max(m[4 * k] * (std::max(e0.x + de.x * along, 0.0f) * vp[k] + ambient.x), 0.0f) * per_extinction;
+    g[k] = std::max(m[4 * k + 1] * (std::max(e0.y + de.y * along, 0.0f) * vp[k] + ambient.y), 0.0f) * per_extinction;
+    b[k] = std::max(m[4 * k + 2] * (std::max(e0.z + de.z * along, 0.0f) * vp[k] + ambient.z), 0.0f) * per_extinction;
+    vp[k] = sigma * dt[k];
+  }
+}
+
+// The fixed-point recurrence of a whole column (see the top of the file), as
+// flat loops over the slices: the float terms, the shares, the depth's
+// prefix sum and transmittance, then the in-scatter sums.
 struct FixedColumn {
   using Visibility = uint16_t;
   using Froxel = FixedIntegratedFroxel;
   static constexpr bool kResumesInside = false;  // a changed column starts over
-  std::vector<uint32_t> depth;  // per slice: Q16.16 log2 optical depth
-  std::vector<float> source[3];  // per slice and channel: scattered radiance over extinction
-  std::vector<uint16_t> share[3];  // the same as q15 of the column's largest
-  explicit FixedColumn(int nz) : depth(size_t(nz)) {
+  // Per slice: the Q16.16 log2 optical depth (then its sum from the near
+  // plane), T as q15, and per channel the scattered radiance over
+  // extinction and the same as q15 of the column's largest.
+  std::vector<uint32_t> depth, transmittance;
+  std::vector<float> optical;  // the visibility times the phase, then the optical depth
+  std::vector<float> source[3];
+  std::vector<uint16_t> share[3];
+  std::vector<uint32_t> in_scatter[3];  // the exact sums
+  explicit FixedColumn(int nz) : depth(size_t(nz)), transmittance(size_t(nz)), optical(size_t(nz)) {
     for (int c = 0; c < 3; ++c) {
       source[c].resize(size_t(nz));
       share[c].resize(size_t(nz));
+      in_scatter[c].resize(size_t(nz));
     }
   }
 
@@ -180,45 +208,59 @@ struct FixedColumn {
                  int n, int, const ColumnLight& light, FixedIntegratedFroxel* out) {
     static_assert(sizeof(FogDensity) == 4 * sizeof(float));
     const float* __restrict m = reinterpret_cast<const float*>(column);
-    uint32_t* __restrict slice_depth = depth.data();
-    float* __restrict src[3] = {source[0].data(), source[1].data(), source[2].data()};
-    // The terms of column_terms: r / sigma is the slice's source (its
-    // in-scatter per unit of 1 - transmittance), never negative.
-    for (int k = 0; k < n; ++k) {
-      const float sigma = m[4 * k + 3];
-      slice_depth[k] = depth_q16_16(sigma * dt[k]);
-      const float per_extinction = sigma > 0.0f ? 1.0f / sigma : 0.0f;
-      const float along = center[k] - light.t_first;
-      const float vp = Q15SunTerm::decode(visibility[k]) * light.phase;
-      for (int c = 0; c < 3; ++c)
-        src[c][k] = std::max(m[4 * k + c] * (std::max(light.e0[c] + light.de[c] * along, 0.0f) * vp + light.ambient[c]),
-                             0.0f) * per_extinction;
-    }
+    uint32_t* __restrict d = depth.data();
+    float* __restrict r = source[0].data();
+    float* __restrict g = source[1].data();
+    float* __restrict b = source[2].data();
+    // Loops of one element size each, so they vectorise.
+    const float phase = light.phase;
+    float* __restrict vp = optical.data();
+    for (int k = 0; k < n; ++k) vp[k] = Q15SunTerm::decode(visibility[k]) * phase;
+    sources(m, vp, dt, center, n, light, r, g, b);
+    for (int k = 0; k < n; ++k) d[k] = depth_q16_16(vp[k]);
     // Shares of the column's largest source per channel, so a dark column
-    // keeps its precision; radiance per unit of the exact sum below.
+    // keeps its precision; radiance per unit of the exact sums below.
     float scale[3];
     for (int c = 0; c < 3; ++c) {
-      const float largest = *std::max_element(src[c], src[c] + n);
+      const float* __restrict src = source[c].data();
+      uint16_t* __restrict q = share[c].data();
+      // The sources are not negative: as unsigned integers their bits order
+      // as their values, and an integer maximum vectorises.
+      uint32_t largest_bits = 0;
+      for (int k = 0; k < n; ++k) largest_bits = std::max(largest_bits, std::bit_cast<uint32_t>(src[k]));
+      const float largest = std::bit_cast<float>(largest_bits);
       const float per_largest = largest > 0.0f ? 1.0f / largest : 0.0f;
-      for (int k = 0; k < n; ++k) share[c][size_t(k)] = fx::encode_q15(src[c][k] * per_largest);
+      for (int k = 0; k < n; ++k) q[k] = fx::encode_q15(src[k] * per_largest);
       scale[c] = largest * 0x1p-30f;
     }
-    // The recurrence: T is exp2_neg_q15 of the saturated depth, so it never
-    // rises and T_before - T_after >= 0; each sum stays below 32767^2.
-    uint32_t sum_depth = 0;
-    uint32_t before = fx::exp2_neg_q15(0);
-    uint32_t in_scatter[3] = {0, 0, 0};
+    // Depth from the near plane, saturating; T is exp2_neg_q15 of it, so it
+    // never rises: each step T_before - T_after >= 0.
+    uint32_t sum = 0;
+    for (int k = 0; k < n; ++k) d[k] = sum = std::min(sum + d[k], kDepthCap);
+    uint32_t* __restrict t = transmittance.data();
+    for (int k = 0; k < n; ++k) t[k] = fx::exp2_neg_q15(d[k]);
+    // Exact sums of share x step: each stays below 32767^2 < 2^30.
+    const uint16_t* __restrict qr = share[0].data();
+    const uint16_t* __restrict qg = share[1].data();
+    const uint16_t* __restrict qb = share[2].data();
+    uint32_t* __restrict lr = in_scatter[0].data();
+    uint32_t* __restrict lg = in_scatter[1].data();
+    uint32_t* __restrict lb = in_scatter[2].data();
+    uint32_t before = fx::exp2_neg_q15(0), sum_r = 0, sum_g = 0, sum_b = 0;
     for (int k = 0; k < n; ++k) {
-      sum_depth = std::min(sum_depth + slice_depth[k], kDepthCap);
-      const uint32_t after = fx::exp2_neg_q15(sum_depth);
-      const uint32_t step = before - after;
-      before = after;
+      const uint32_t step = before - t[k];
+      before = t[k];
+      lr[k] = sum_r += qr[k] * step;
+      lg[k] = sum_g += qg[k] * step;
+      lb[k] = sum_b += qb[k] * step;
+    }
+    // The records: radiance in hdr16, the depth in Q5.11.
+    for (int k = 0; k < n; ++k) {
       FixedIntegratedFroxel& f = out[k];
-      for (int c = 0; c < 3; ++c) {
-        in_scatter[c] += uint32_t(share[c][size_t(k)]) * step;
-        f.in_scatter[c] = fx::encode_hdr16(float(in_scatter[c]) * scale[c]);
-      }
-      f.optical_depth = uint16_t(std::min<uint32_t>((sum_depth + (1u << (kOpticalDepthShift - 1))) >> kOpticalDepthShift,
+      f.in_scatter[0] = encode_hdr16_branch_free(float(lr[k]) * scale[0]);
+      f.in_scatter[1] = encode_hdr16_branch_free(float(lg[k]) * scale[1]);
+      f.in_scatter[2] = encode_hdr16_branch_free(float(lb[k]) * scale[2]);
+      f.optical_depth = uint16_t(std::min<uint32_t>((d[k] + (1u << (kOpticalDepthShift - 1))) >> kOpticalDepthShift,
                                                     0xFFFF));
     }
   }
