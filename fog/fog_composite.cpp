@@ -363,8 +363,8 @@ RunStart start_of(const FroxelGrid& g, __m256 d, __m256 valid) {
 // lanes take the columns' far end (lookup_far's sums), lanes inside the grid
 // resolve_inside's; runs of sky skip the slice search.
 template <class Froxels>
-void composite_run(const FroxelGrid& g, const RunTaps<Froxels>& taps, __m256 d, __m256 valid, const RunStart& start, int len,
-                   glm::vec3* color) {
+void composite_run(const FroxelGrid& g, const RunTaps<Froxels>& taps, __m256 d, __m256 valid, const RunStart& start,
+                   int len, glm::vec3* color) {
   const __m256 fog = fog_lanes(g, d, valid), sky = sky_lanes(g, d, fog);
   Rgbt fogged;
   if (start.fog != start.sky) fogged = resolve_inside(g, taps, d, _mm256_andnot_ps(sky, fog), start.slice);

@@ -392,7 +392,8 @@ size_t integrate_columns(const FroxelView& view, const std::vector<FogDensity>& 
 size_t integrate_columns(const FroxelView& view, const std::vector<FogDensity>& density,
                          const std::vector<uint16_t>& sun_visibility, const MediumLighting& lighting,
                          const std::vector<glm::vec3>& knots, JobSystem& jobs,
-                         std::vector<FixedIntegratedFroxel>& volume, const IncrementalIntegration<uint16_t>& incremental) {
+                         std::vector<FixedIntegratedFroxel>& volume,
+                         const IncrementalIntegration<uint16_t>& incremental) {
   return integrate_rows<FixedColumn>(view, density, sun_visibility, lighting, knots, jobs, volume, incremental);
 }
 
