@@ -199,11 +199,11 @@ void light_columns(const FroxelView& view, const std::vector<FogDensity>& densit
             out[k] /= float(samples);
             if (change) change[k] /= float(samples);
           }
-        if constexpr (!kFloat)
-          for (int k = lit.first; k < lit.end; ++k) {
-            out_column[k] = Q15SunTerm::encode(out[k]);
-            if (change) change_column[k] = Q15SunTerm::encode(change[k]);
-          }
+        if constexpr (!kFloat) {
+          for (int k = lit.first; k < lit.end; ++k) out_column[k] = Q15SunTerm::encode(out[k]);
+          if (change)
+            for (int k = lit.first; k < lit.end; ++k) change_column[k] = Q15SunTerm::encode(change[k]);
+        }
       }
   });
 }
