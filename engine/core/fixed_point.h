@@ -113,10 +113,10 @@ inline int32_t mul_q16_16(int32_t a, int32_t b) {
 }
 
 // 1 / x for x > 0, both Q16.16 unsigned: round(2^32 / x), half up, saturated
-// to 0xFFFFFFFF (x <= 1, i.e. x <= 2^-16, and x = 0). An exact 64-bit
-// division rather than a table and Newton step: it is exactly rounded, and a
-// resolve divides once a pixel, where one div (~10-20 cycles) costs less than
-// the table lookup, two multiplies and the correction step of an
+// to 0xFFFFFFFF where 1 / x does not fit (codes 0 and 1, x <= 2^-16). An
+// exact 64-bit division rather than a table and Newton step: it is exactly
+// rounded, and a resolve divides once a pixel, where one div (about 2 ns)
+// costs less than the lookup, two multiplies and the correction step of an
 // exactly-rounded Newton reciprocal would save.
 inline uint32_t reciprocal_q16_16(uint32_t x) {
   if (x <= 1) return 0xFFFFFFFFu;
@@ -201,7 +201,7 @@ inline uint16_t exp2_neg_q15(uint32_t x_q16_16) {
 }
 
 // log2 of a Q16.16 value x > 0 (x / 65536 in [2^-16, 2^16)), Q16.16 signed,
-// rounded half up: in [-16, 16) * 65536. For an integer n, log2(n) is
+// rounded half up: in [-16, 16] * 65536. For an integer n, log2(n) is
 // log2_q16_16(n) + (16 << 16). x = 0 gives INT32_MIN (-infinity).
 // x = 2^e * m, m in [1, 2); m times a table reciprocal near 1 / m leaves
 // 1 + v with |v| < 2^-9, and ln(1 + v) ~ v - v^2 / 2 (the next term is
@@ -214,8 +214,8 @@ inline int32_t log2_q16_16(uint32_t x) {
   const uint32_t i = (m >> 23) & 0xFFu;
   // m * r / 2^62 = 1 + v; v in Q32 (|v| < 2^23 in that scale).
   const int64_t v = int64_t(uint64_t(m) * detail::kLogRecip[i] - (uint64_t(1) << 62)) >> 30;
-  const int64_t ln = v - ((v * v) >> 33);                                   // Q32
-  const int64_t log2_1pv = (ln * int64_t(6196328019)) >> 32;                // * 1/ln2 (Q32)
+  const int64_t ln = v - ((v * v) >> 33);                     // Q32
+  const int64_t log2_1pv = (ln * int64_t(6196328019)) >> 32;  // times 1 / ln 2 in Q32
   const int64_t q32 = (int64_t(e - 16) << 32) + detail::kLog2Recip[i] + log2_1pv;
   return int32_t((q32 + 0x8000) >> 16);
 }

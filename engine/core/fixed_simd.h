@@ -21,8 +21,9 @@ using F32x4 = float __attribute__((vector_size(16)));
 
 inline I16x8 mul_round_q15(I16x8 a, I16x8 b) { return I16x8(_mm_mulhrs_epi16(__m128i(a), __m128i(b))); }
 
-// The subtraction and addition wrap modulo 2^16 like the scalar's int16 and
-// uint16 truncations; for a, b, w in 0..32767 neither ever wraps.
+// The subtraction and addition are modulo 2^16, like the scalar's int16 and
+// uint16 truncations: for a, b, w in 0..32767, b - a read as int16 is the
+// exact difference and the sum lands in [min(a, b), max(a, b)].
 inline U16x8 lerp_q15(U16x8 a, U16x8 b, I16x8 w) { return a + U16x8(mul_round_q15(I16x8(b - a), w)); }
 
 namespace detail {
