@@ -33,7 +33,7 @@
 
 #include "fog/fixed_volume.h"
 #include "fog/froxel_passes.h"
-#include "fog/hdr16_lanes.h"
+#include "fog/hdr16_branch_free.h"
 #include "fog/homogeneous_medium.h"
 #include "fog/phase_function.h"
 #include "fog/sun_term_format.h"

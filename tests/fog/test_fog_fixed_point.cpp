@@ -13,7 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "engine/output/percentile.h"
-#include "fog/hdr16_lanes.h"
+#include "fog/hdr16_branch_free.h"
 #include "fog/sun_term_format.h"
 #include "fog_test_scene.h"
 
