@@ -6,7 +6,7 @@
 //                  night sky to the sun disk, saturating, never negative)
 //   optical_depth  log2(1 / transmittance) over the same distance, Q5.11
 //                  (code / 2048), saturating at 65535 (depth 32: the
-//                  transmittance is 0 from 16 on). The log domain adds
+//                  transmittance is 0 beyond 16). The log domain adds
 //                  slices' depths, which cannot wrap or increase the
 //                  transmittance, and the difference of a froxel's code and
 //                  its predecessor's is the slice's extinction, so nothing

@@ -13,7 +13,7 @@
 // volume up to its first changed slice is what it was: incremental
 // integration starts each column there.
 //
-// The fixed-point recurrence (FixedVolume, fixed_volume.h) evaluates the
+// The fixed-point recurrence (FixedIntegratedFroxel, fixed_volume.h) evaluates the
 // same terms in float and quantises them: each slice's optical depth in log2
 // units as Q16.16, summed with saturation (transmittance cannot wrap or
 // rise), the transmittance T = exp2_neg_q15(depth), and each slice's source
@@ -61,6 +61,12 @@ struct ColumnLight {
   glm::vec3 ambient;
 };
 
+// One channel of the source: scattering (illuminance at `along` past
+// t_first x visibility x phase + ambient).
+inline float source_of(float scattering, float e0, float de, float along, float vp, float ambient) {
+  return scattering * (std::max(e0 + de * along, 0.0f) * vp + ambient);
+}
+
 void column_terms(const FogDensity* __restrict d, const float* __restrict visibility, const float* __restrict dt,
                   const float* __restrict center, int n, const ColumnLight& light, ColumnTerms& out) {
   float* __restrict opacity = out.opacity.data();
@@ -83,9 +89,9 @@ void column_terms(const FogDensity* __restrict d, const float* __restrict visibi
     weight[k] = optical > 1e-6f ? ratio : dt[k];
     const float along = center[k] - t_first;
     const float vp = visibility[k] * phase;
-    r[k] = m[4 * k] * (std::max(e0.x + de.x * along, 0.0f) * vp + ambient.x);
-    g[k] = m[4 * k + 1] * (std::max(e0.y + de.y * along, 0.0f) * vp + ambient.y);
-    b[k] = m[4 * k + 2] * (std::max(e0.z + de.z * along, 0.0f) * vp + ambient.z);
+    r[k] = source_of(m[4 * k], e0.x, de.x, along, vp, ambient.x);
+    g[k] = source_of(m[4 * k + 1], e0.y, de.y, along, vp, ambient.y);
+    b[k] = source_of(m[4 * k + 2], e0.z, de.z, along, vp, ambient.z);
   }
 }
 
@@ -150,7 +156,7 @@ struct FloatColumn {
 };
 
 // Largest Q16.16 log2 optical depth: 32, where the stored Q5.11 code
-// saturates (the transmittance is 0 from 17). A slice's depth and the sum
+// saturates (the transmittance is 0 beyond 16). A slice's depth and the sum
 // saturate there, so neither can wrap.
 constexpr uint32_t kDepthCap = uint32_t(32) << 16;
 constexpr float kDepthPerNeper = 65536.0f / 0.693147181f;  // Q16.16 log2 units per unit of optical depth
@@ -162,8 +168,8 @@ inline uint32_t depth_q16_16(float optical) {
   return uint32_t(int32_t(std::nearbyint(std::min(x > 0.0f ? x : 0.0f, float(kDepthCap)))));
 }
 
-// column_terms' source r / sigma per channel: the slice's in-scatter per
-// unit of 1 - transmittance, never negative; vp (visibility times phase) is
+// The source over extinction per channel: the slice's in-scatter per unit of
+// 1 - transmittance, never negative; vp (visibility times phase) is
 // overwritten with the slice's optical depth.
 void sources(const float* __restrict m, float* __restrict vp, const float* __restrict dt,
              const float* __restrict center, int n, const ColumnLight& light, float* __restrict r,
@@ -174,9 +180,9 @@ void sources(const float* __restrict m, float* __restrict vp, const float* __res
     const float sigma = m[4 * k + 3];
     const float per_extinction = sigma > 0.0f ? 1.0f / sigma : 0.0f;
     const float along = center[k] - t_first;
-    r[k] = std::max(m[4 * k] * (std::max(e0.x + de.x * along, 0.0f) * vp[k] + ambient.x), 0.0f) * per_extinction;
-    g[k] = std::max(m[4 * k + 1] * (std::max(e0.y + de.y * along, 0.0f) * vp[k] + ambient.y), 0.0f) * per_extinction;
-    b[k] = std::max(m[4 * k + 2] * (std::max(e0.z + de.z * along, 0.0f) * vp[k] + ambient.z), 0.0f) * per_extinction;
+    r[k] = std::max(source_of(m[4 * k], e0.x, de.x, along, vp[k], ambient.x), 0.0f) * per_extinction;
+    g[k] = std::max(source_of(m[4 * k + 1], e0.y, de.y, along, vp[k], ambient.y), 0.0f) * per_extinction;
+    b[k] = std::max(source_of(m[4 * k + 2], e0.z, de.z, along, vp[k], ambient.z), 0.0f) * per_extinction;
     vp[k] = sigma * dt[k];
   }
 }
