@@ -12,6 +12,7 @@
 //              passes that carry it have an overload for each
 //   volume     IntegratedFroxel: in-scattered radiance and transmittance from
 //              the near plane to the froxel's far boundary, and its extinction
+//              (fixed point: FixedIntegratedFroxel, fixed_volume.h)
 #include <array>
 #include <cstdint>
 #include <functional>
