@@ -23,19 +23,71 @@
 // only. The run's colours are loaded as three registers, transposed to one
 // register per channel, blended, transposed back and stored; runs without
 // fog are not touched, runs of sky skip the slice search and the closed form.
+//
+// Both volumes are read through a reader giving a froxel as the float record
+// (radiance RGB, transmittance) and its slice's extinction: the float
+// volume's own floats, or the fixed-point volume's codes decoded
+// (fixed_volume.h). Everything after the read is the same float code.
 #include <algorithm>
+#include <vector>
 #include <cmath>
 #include <cstddef>
 #include <limits>
 
 #include <immintrin.h>
 
+#include "fog/fixed_volume.h"
 #include "fog/froxel_passes.h"
 #include "fog/homogeneous_medium.h"
+#include "fog/sun_term_format.h"
 
 namespace cr {
 
 namespace {
+
+static_assert(offsetof(IntegratedFroxel, in_scatter) == 0 && offsetof(IntegratedFroxel, transmittance) == 12,
+              "a froxel's radiance and transmittance are its first four floats");
+
+// The float volume: a froxel's record is its first four floats.
+struct FloatFroxels {
+  const IntegratedFroxel* volume;
+  const float* record(size_t i) const { return &volume[i].in_scatter.x; }
+  __m128 load(size_t i) const { return _mm_loadu_ps(record(i)); }
+  // Of froxel i, slice k of its column.
+  float extinction(size_t i, int) const { return volume[i].extinction; }
+};
+
+// The fixed-point volume, decoded: radiance from hdr16, transmittance as
+// q15 of the depth code, extinction from the depth codes of the slice's two
+// boundaries (the near plane's is 0) over its thickness. A record decodes
+// each channel as it is read (a run's radiance-only reads skip the
+// transmittance's table lookups).
+struct FixedFroxels {
+  struct Record {
+    const FixedIntegratedFroxel* f;
+    float operator[](int ch) const {
+      return ch < 3 ? fx::decode_hdr16(f->in_scatter[ch]) : Q15SunTerm::decode(transmittance_q15(f->optical_depth));
+    }
+  };
+  const FixedIntegratedFroxel* volume;
+  std::vector<float> extinction_per_code;  // per slice: the extinction of one depth code
+  FixedFroxels(const FixedIntegratedFroxel* v, const FroxelGrid& grid)
+      : volume(v), extinction_per_code(size_t(grid.nz())) {
+    for (int k = 0; k < grid.nz(); ++k) {
+      const float dt = grid.thickness(k);
+      extinction_per_code[size_t(k)] = dt > 0.0f ? kOpticalDepthPerCode / dt : 0.0f;
+    }
+  }
+  Record record(size_t i) const { return Record{volume + i}; }
+  __m128 load(size_t i) const {
+    const Record r = record(i);
+    return _mm_setr_ps(r[0], r[1], r[2], r[3]);
+  }
+  float extinction(size_t i, int k) const {
+    const int before = k > 0 ? volume[i - 1].optical_depth : 0;
+    return float(volume[i].optical_depth - before) * extinction_per_code[size_t(k)];
+  }
+};
 
 // Bilinear footprint along one axis at pixel coordinate p.
 struct Axis {
@@ -61,8 +113,6 @@ struct PixelSlice {
   __m128 near, far;
   float sigma, s, dt;
 };
-static_assert(offsetof(IntegratedFroxel, in_scatter) == 0 && offsetof(IntegratedFroxel, transmittance) == 12,
-              "a froxel's radiance and transmittance are its first four floats");
 
 struct Weights {
   size_t at[4];
@@ -78,11 +128,12 @@ Weights weights_of(const FroxelGrid& g, const Axis& ax, const Axis& ay) {
 
 // Sky (at or beyond the far end): the columns' integrated end values,
 // radiance in lanes 0-2 and transmittance in lane 3.
-__m128 lookup_far(const FroxelGrid& g, const IntegratedFroxel* volume, const Weights& wt) {
+template <class Froxels>
+__m128 lookup_far(const FroxelGrid& g, const Froxels& volume, const Weights& wt) {
   const size_t last = size_t(g.nz() - 1);
   __m128 sum = _mm_setzero_ps();
   for (int i = 0; i < 4; ++i)
-    sum = _mm_add_ps(sum, _mm_mul_ps(_mm_loadu_ps(&volume[wt.at[i] + last].in_scatter.x), _mm_set1_ps(wt.w[i])));
+    sum = _mm_add_ps(sum, _mm_mul_ps(volume.load(wt.at[i] + last), _mm_set1_ps(wt.w[i])));
   return sum;
 }
 
@@ -90,16 +141,17 @@ __m128 lookup_far(const FroxelGrid& g, const IntegratedFroxel* volume, const Wei
 // operations, in the same order, as a sum over the four taps per channel. In
 // the first slice the near boundary is the near plane: no radiance,
 // transmittance 1.
-PixelSlice gather_slice(const FroxelGrid& g, const IntegratedFroxel* volume, const Weights& wt, float distance) {
+template <class Froxels>
+PixelSlice gather_slice(const FroxelGrid& g, const Froxels& volume, const Weights& wt, float distance) {
   const int k = g.slice_of(distance);
   PixelSlice p{_mm_setzero_ps(), _mm_setzero_ps(), 0.0f, std::max(distance - g.boundary(k), 0.0f), g.thickness(k)};
   const __m128 near_plane = _mm_set_ps(1.0f, 0.0f, 0.0f, 0.0f);
   for (int i = 0; i < 4; ++i) {
-    const IntegratedFroxel* c = volume + wt.at[i] + size_t(k);
+    const size_t c = wt.at[i] + size_t(k);
     const __m128 w = _mm_set1_ps(wt.w[i]);
-    p.far = _mm_add_ps(p.far, _mm_mul_ps(_mm_loadu_ps(&c->in_scatter.x), w));
-    p.sigma += c->extinction * wt.w[i];
-    p.near = _mm_add_ps(p.near, _mm_mul_ps(k > 0 ? _mm_loadu_ps(&c[-1].in_scatter.x) : near_plane, w));
+    p.far = _mm_add_ps(p.far, _mm_mul_ps(volume.load(c), w));
+    p.sigma += volume.extinction(c, k) * wt.w[i];
+    p.near = _mm_add_ps(p.near, _mm_mul_ps(k > 0 ? volume.load(c - 1) : near_plane, w));
   }
   return p;
 }
@@ -143,9 +195,11 @@ struct Rgbt {
   __m256 c[4];
 };
 
-// The four taps of a run: each tap's column and its weight per lane.
+// The four taps of a run: each tap's column (its first froxel) and its weight per lane.
+template <class Froxels>
 struct RunTaps {
-  const IntegratedFroxel* column[4];
+  const Froxels& volume;
+  size_t column[4];
   __m256 w[4];
 
   // The bilinear sum of slice k's radiance and transmittance (k = -1: the
@@ -156,20 +210,24 @@ struct RunTaps {
     Rgbt s;
     for (__m256& c : s.c) c = _mm256_setzero_ps();
     for (int i = 0; i < 4; ++i) {
-      const float* r = k < 0 ? kNearPlane : &column[i][k].in_scatter.x;
-      for (int ch = 0; ch < channels; ++ch)
-        s.c[ch] = _mm256_add_ps(s.c[ch], _mm256_mul_ps(_mm256_broadcast_ss(r + ch), w[i]));
+      auto add = [&](const auto& r) {
+        for (int ch = 0; ch < channels; ++ch)
+          s.c[ch] = _mm256_add_ps(s.c[ch], _mm256_mul_ps(_mm256_set1_ps(r[ch]), w[i]));
+      };
+      if (k < 0)
+        add(kNearPlane);
+      else
+        add(volume.record(column[i] + size_t(k)));
     }
     return s;
   }
   __m256 extinction(int k) const {
     __m256 sigma = _mm256_setzero_ps();
     for (int i = 0; i < 4; ++i)
-      sigma = _mm256_add_ps(sigma, _mm256_mul_ps(_mm256_broadcast_ss(&column[i][k].extinction), w[i]));
+      sigma = _mm256_add_ps(sigma, _mm256_mul_ps(_mm256_set1_ps(volume.extinction(column[i] + size_t(k), k)), w[i]));
     return sigma;
   }
 };
-
 
 // Smallest distance among the lanes of `mask` (at least one, none NaN).
 float nearest(__m256 d, __m256 mask) {
@@ -186,7 +244,8 @@ float nearest(__m256 d, __m256 mask) {
 // or beyond its near boundary take it, so each lane ends with its own slice
 // (slice_of is exact against the boundaries, which increase). The first
 // visit, slice k, is the nearest inside lane's.
-Rgbt resolve_inside(const FroxelGrid& g, const RunTaps& taps, __m256 d, __m256 inside, int k) {
+template <class Froxels>
+Rgbt resolve_inside(const FroxelGrid& g, const RunTaps<Froxels>& taps, __m256 d, __m256 inside, int k) {
   // Slice k's radiance: a far boundary's transmittance is not used (only a
   // near boundary's, taken when a later visit starts there).
   Rgbt at_k = taps.at(k, 3);
@@ -303,8 +362,9 @@ RunStart start_of(const FroxelGrid& g, __m256 d, __m256 valid) {
 // One run with fog: `valid` lanes of distance d, colours at `color`. Sky
 // lanes take the columns' far end (lookup_far's sums), lanes inside the grid
 // resolve_inside's; runs of sky skip the slice search.
-void composite_run(const FroxelGrid& g, const RunTaps& taps, __m256 d, __m256 valid, const RunStart& start, int len,
-                   glm::vec3* color) {
+template <class Froxels>
+void composite_run(const FroxelGrid& g, const RunTaps<Froxels>& taps, __m256 d, __m256 valid, const RunStart& start,
+                   int len, glm::vec3* color) {
   const __m256 fog = fog_lanes(g, d, valid), sky = sky_lanes(g, d, fog);
   Rgbt fogged;
   if (start.fog != start.sky) fogged = resolve_inside(g, taps, d, _mm256_andnot_ps(sky, fog), start.slice);
@@ -328,10 +388,9 @@ void prefetch(const void* begin, size_t bytes) {
 }
 #endif  // __AVX2__
 
-}  // namespace
-
-void lookup_fog(const FroxelGrid& g, const std::vector<IntegratedFroxel>& volume, float px, float py,
-                float distance, glm::vec3& in_scatter, float& transmittance) {
+template <class Froxels>
+void lookup(const FroxelGrid& g, const Froxels& volume, float px, float py, float distance, glm::vec3& in_scatter,
+            float& transmittance) {
   in_scatter = glm::vec3(0.0f);
   transmittance = 1.0f;
   if (!(distance > g.near_distance())) return;
@@ -339,17 +398,17 @@ void lookup_fog(const FroxelGrid& g, const std::vector<IntegratedFroxel>& volume
   const Weights wt = weights_of(g, axis_at(px, inv_size, g.nx()), axis_at(py, inv_size, g.ny()));
   alignas(16) float v[4];
   if (distance >= g.far_distance()) {
-    _mm_store_ps(v, lookup_far(g, volume.data(), wt));
+    _mm_store_ps(v, lookup_far(g, volume, wt));
   } else {
-    _mm_store_ps(v, resolve_pixel(gather_slice(g, volume.data(), wt, distance)));
+    _mm_store_ps(v, resolve_pixel(gather_slice(g, volume, wt, distance)));
   }
   in_scatter = glm::vec3(v[0], v[1], v[2]);
   transmittance = v[3];
 }
 
-void composite_fog(const FroxelGrid& grid, const std::vector<IntegratedFroxel>& volume,
-                   const std::vector<float>& distance, std::vector<glm::vec3>& color, int width, int x0, int y0,
-                   int x1, int y1) {
+template <class Froxels>
+void composite_rows(const FroxelGrid& grid, const Froxels& volume, const std::vector<float>& distance,
+                    std::vector<glm::vec3>& color, int width, int x0, int y0, int x1, int y1) {
   if (x1 <= x0 || y1 <= y0) return;
 #ifndef __AVX2__
   // Builds for CPUs without AVX2 (CR_ARCH x86-64-v2): the definition, one pixel at a time.
@@ -359,7 +418,7 @@ void composite_fog(const FroxelGrid& grid, const std::vector<IntegratedFroxel>& 
       if (!(distance[i] > grid.near_distance())) continue;
       glm::vec3 in_scatter;
       float transmittance;
-      lookup_fog(grid, volume, float(x) + 0.5f, float(y) + 0.5f, distance[i], in_scatter, transmittance);
+      lookup(grid, volume, float(x) + 0.5f, float(y) + 0.5f, distance[i], in_scatter, transmittance);
       color[i] = color[i] * transmittance + in_scatter;
     }
 #else
@@ -397,8 +456,8 @@ void composite_fog(const FroxelGrid& grid, const std::vector<IntegratedFroxel>& 
       prefetch(distance.data() + ahead, n * sizeof(float));
       prefetch(color.data() + ahead, n * sizeof(glm::vec3));
     }
-    const IntegratedFroxel* row0 = volume.data() + size_t(ay.i0) * nx * nz;
-    const IntegratedFroxel* row1 = volume.data() + size_t(ay.i1) * nx * nz;
+    const size_t row0 = size_t(ay.i0) * nx * nz;
+    const size_t row1 = size_t(ay.i1) * nx * nz;
     const float* row_distance = distance.data() + row;
     for (size_t r = 0; r < runs.size(); ++r)
       starts[r] = start_of(grid, _mm256_maskload_ps(row_distance + runs[r].x, runs[r].valid), runs[r].lanes);
@@ -407,7 +466,8 @@ void composite_fog(const FroxelGrid& grid, const std::vector<IntegratedFroxel>& 
       if (!starts[r].fog) continue;
       const __m256 a = _mm256_loadu_ps(&column_weight[size_t(run.x)]), a_1 = _mm256_sub_ps(_mm256_set1_ps(1.0f), a);
       // weights_of's products, per lane.
-      const RunTaps taps{{row0 + size_t(run.ax.i0) * nz, row0 + size_t(run.ax.i1) * nz,
+      const RunTaps<Froxels> taps{volume,
+                                  {row0 + size_t(run.ax.i0) * nz, row0 + size_t(run.ax.i1) * nz,
                           row1 + size_t(run.ax.i0) * nz, row1 + size_t(run.ax.i1) * nz},
                          {_mm256_mul_ps(a_1, ay_1), _mm256_mul_ps(a, ay_1), _mm256_mul_ps(a_1, ay_a),
                           _mm256_mul_ps(a, ay_a)}};
@@ -418,14 +478,56 @@ void composite_fog(const FroxelGrid& grid, const std::vector<IntegratedFroxel>& 
 #endif
 }
 
-void composite_fog_fragments(const FroxelGrid& grid, const std::vector<IntegratedFroxel>& volume,
-                             std::span<EdgeFragment> fragments) {
+template <class Froxels>
+void composite_fragments(const FroxelGrid& grid, const Froxels& volume, std::span<EdgeFragment> fragments) {
   for (EdgeFragment& e : fragments) {
     glm::vec3 in_scatter;
     float transmittance;
-    lookup_fog(grid, volume, e.x, e.y, e.distance, in_scatter, transmittance);
+    lookup(grid, volume, e.x, e.y, e.distance, in_scatter, transmittance);
     e.color = e.color * transmittance + in_scatter;
   }
+}
+
+}  // namespace
+
+void lookup_fog(const FroxelGrid& g, const std::vector<IntegratedFroxel>& volume, float px, float py,
+                float distance, glm::vec3& in_scatter, float& transmittance) {
+  lookup(g, FloatFroxels{volume.data()}, px, py, distance, in_scatter, transmittance);
+}
+
+void lookup_fog(const FroxelGrid& g, const std::vector<FixedIntegratedFroxel>& volume, float px, float py,
+                float distance, glm::vec3& in_scatter, float& transmittance) {
+  lookup(g, FixedFroxels(volume.data(), g), px, py, distance, in_scatter, transmittance);
+}
+
+void composite_fog(const FroxelGrid& grid, const std::vector<IntegratedFroxel>& volume,
+                   const std::vector<float>& distance, std::vector<glm::vec3>& color, int width, int x0, int y0,
+                   int x1, int y1) {
+  composite_rows(grid, FloatFroxels{volume.data()}, distance, color, width, x0, y0, x1, y1);
+}
+
+void composite_fog(const FroxelGrid& grid, const std::vector<FixedIntegratedFroxel>& volume,
+                   const std::vector<float>& distance, std::vector<glm::vec3>& color, int width, int x0, int y0,
+                   int x1, int y1) {
+  composite_rows(grid, FixedFroxels(volume.data(), grid), distance, color, width, x0, y0, x1, y1);
+}
+
+void composite_fog_fragments(const FroxelGrid& grid, const std::vector<IntegratedFroxel>& volume,
+                             std::span<EdgeFragment> fragments) {
+  composite_fragments(grid, FloatFroxels{volume.data()}, fragments);
+}
+
+void composite_fog_fragments(const FroxelGrid& grid, const std::vector<FixedIntegratedFroxel>& volume,
+                             std::span<EdgeFragment> fragments) {
+  composite_fragments(grid, FixedFroxels(volume.data(), grid), fragments);
+}
+
+IntegratedFroxel decode_froxel(const FroxelGrid& grid, const std::vector<FixedIntegratedFroxel>& volume,
+                               size_t index) {
+  const FixedFroxels froxels(volume.data(), grid);
+  const FixedFroxels::Record r = froxels.record(index);
+  const int k = int(index % size_t(grid.nz()));
+  return IntegratedFroxel{glm::vec3(r[0], r[1], r[2]), r[3], froxels.extinction(index, k)};
 }
 
 }  // namespace cr

@@ -34,8 +34,13 @@ void FogPlugin::estimate_memory(const SceneDescription& description, const Profi
                                              size_t((profile.height + p.froxel_size_px - 1) / p.froxel_size_px)});
   // Per froxel: density, the integrated froxel and its sun knot, and ten
   // float planes (sun visibility now, two histories, filter scratch and
-  // result, the still mean, light change, integrated visibility, masks).
-  const size_t per_froxel = sizeof(FogDensity) + sizeof(IntegratedFroxel) + sizeof(glm::vec3) + 10 * sizeof(float);
+  // result, the still mean, light change, integrated visibility, masks);
+  // with "precision": "fixed" the eight planes of the sun term are 16-bit
+  // codes, and the still run's sum and the masks 32-bit.
+  const size_t per_froxel = sizeof(FogDensity) + sizeof(glm::vec3) +
+                            (p.precision == FogPrecision::Fixed
+                                 ? sizeof(FixedIntegratedFroxel) + 8 * sizeof(uint16_t) + 2 * sizeof(uint32_t)
+                                 : sizeof(IntegratedFroxel) + 10 * sizeof(float));
   memory.charge("froxel grid of " + std::to_string(columns) + " columns x " + std::to_string(p.slices) + " slices",
                 profile.path, "fog.froxel_size_px", saturating_product({columns, size_t(p.slices), per_froxel}));
 }

@@ -93,7 +93,7 @@ FogProfileSettings parse_fog_profile(const nlohmann::json& section, const std::s
   const JsonObject o(section, file, "fog");
   o.allow_only({"froxel_size_px", "slices", "fog_distance", "slice_uniformity", "density_samples",
                 "history_weight", "filter", "jitter", "reprojection", "history_clamp",
-                "light_change_rejection", "still_accumulation", "still_settled"});
+                "light_change_rejection", "still_accumulation", "still_settled", "precision"});
   if (o.has("froxel_size_px")) s.froxel_size_px = o.integer("froxel_size_px", 1, 256);
   if (o.has("slices")) s.slices = o.integer("slices", 1, 1024);
   if (o.has("fog_distance")) s.fog_distance = float(o.number("fog_distance", {0.01, 1e7}));
@@ -107,6 +107,12 @@ FogProfileSettings parse_fog_profile(const nlohmann::json& section, const std::s
   if (o.has("light_change_rejection")) s.light_change_rejection = o.boolean("light_change_rejection");
   if (o.has("still_accumulation")) s.still_accumulation = o.boolean("still_accumulation");
   if (o.has("still_settled")) s.still_settled = o.boolean("still_settled");
+  if (o.has("precision")) {
+    const std::string p = o.string("precision");
+    if (p == "float") s.precision = FogPrecision::Float;
+    else if (p == "fixed") s.precision = FogPrecision::Fixed;
+    else o.fail("precision", "must be \"float\" or \"fixed\", found \"" + p + "\"");
+  }
   return s;
 }
 

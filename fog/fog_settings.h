@@ -10,6 +10,11 @@
 
 namespace cr {
 
+// How the froxel buffers are stored and blended (profile "precision"):
+// float, or 16-bit fixed point as a phone stores fp16/unorm16 textures
+// (docs/fog.md, "Reduced precision (mobile)").
+enum class FogPrecision { Float, Fixed };
+
 // Profile "fog" section.
 struct FogProfileSettings {
   int froxel_size_px = 8;          // screen pixels per froxel edge (HDRP: 1/8 screen)
@@ -27,6 +32,7 @@ struct FogProfileSettings {
                                    // and drops the filter once a whole sequence is in
   bool still_settled = false;  // opt-in: a still view lights again only froxels whose 3x3x3 history is not one 0 or 1
                                // (misses occluders thinner than a froxel that two samples missed)
+  FogPrecision precision = FogPrecision::Float;
 };
 
 enum class FogPhase { HenyeyGreenstein, CornetteShanks };

@@ -1,8 +1,10 @@
 #include "fog/froxel_fog.h"
 
 #include <algorithm>
+#include <type_traits>
 
 #include "fog/settled_froxels.h"
+#include "fog/sun_term_format.h"
 
 namespace cr {
 
@@ -109,6 +111,16 @@ void FroxelFog::lighting(const ShadowMap& shadow, JobSystem& jobs, const ShadowM
     case FogRegime::StillAccumulating:
       break;
   }
+  if (fixed_point())
+    light_in<Q15SunTerm>(fixed_, shadow, jobs, previous);
+  else
+    light_in<FloatSunTerm>(float_, shadow, jobs, previous);
+}
+
+template <class F>
+void FroxelFog::light_in(SunBuffers<typename F::Value>& b, const ShadowMap& shadow, JobSystem& jobs,
+                         const ShadowMap* previous) {
+  using Value = typename F::Value;
   volume_stale_ = true;
   const bool accumulating = regime_ == FogRegime::StillAccumulating;
   JitterInputs jitter;
@@ -133,22 +145,23 @@ void FroxelFog::lighting(const ShadowMap& shadow, JobSystem& jobs, const ShadowM
   // samples (this run's first and the frame before it): with one, a still
   // view of fog_volumes missed edges that the second sample showed.
   const bool settle = accumulating && profile_.still_settled && still_phases_ != 0;
-  SettledSamples settled;
+  SettledSamples<Value> settled;
   if (settle) {
-    unsettled_spans(view_, history_[1 - current_], jobs, settled_scratch_, unsettled_);
+    unsettled_spans(view_, b.history[1 - current_], jobs, settled_scratch_, unsettled_);
     settled.spans = &unsettled_;
-    settled.values = &history_[1 - current_];
+    settled.values = &b.history[1 - current_];
     for (const SliceSpan& s : unsettled_) stats_.unsettled_froxels += size_t(s.end - s.first);
   }
-  light_froxels(view_, density_, volume_shadow, jitter, jobs, sun_current_, density_kept_ ? prefetch : voxelize,
-                light_changed_ ? &previous_shadow : nullptr, light_changed_ ? &light_change_ : nullptr,
+  light_froxels(view_, density_, volume_shadow, jitter, jobs, b.current, density_kept_ ? prefetch : voxelize,
+                light_changed_ ? &previous_shadow : nullptr, light_changed_ ? &b.light_change : nullptr,
                 settle ? &settled : nullptr);
   density_valid_ = true;
   blended_ = -1;
-  if (accumulating) add_still_sample(jobs);
+  if (accumulating) add_still_sample(b, jobs);
 }
 
-void FroxelFog::add_still_sample(JobSystem& jobs) {
+template <class Value>
+void FroxelFog::add_still_sample(SunBuffers<Value>& b, JobSystem& jobs) {
   // Without jitter every frame takes the same sample: one is the mean.
   const unsigned phase = profile_.jitter ? 1u << (((frame_ % kJitterFrames) + kJitterFrames) % kJitterFrames)
                                          : kAllPhases;
@@ -157,20 +170,47 @@ void FroxelFog::add_still_sample(JobSystem& jobs) {
   still_samples_ = first ? 1 : still_samples_ + 1;
   still_phases_ |= phase;
   fading_share_ = 1.0f;  // at most all of the history differs from the mean when it completes
-  const float scale = still_phases_ == kAllPhases ? 1.0f / float(still_samples_) : 1.0f;
+  const bool complete = still_phases_ == kAllPhases;
   const FroxelGrid& g = view_.grid;
-  still_mean_.resize(g.count());
-  jobs.parallel_for("fog.still_mean", g.columns(), 64, [&](size_t begin, size_t end) {
-    for (size_t c = begin; c < end; ++c) {
-      float* sum = still_mean_.data() + c * g.nz();
-      const float* sample = sun_current_.data() + c * g.nz();
-      for (int k = 0; k < view_.lit_slices[c]; ++k) sum[k] = ((first ? 0.0f : sum[k]) + sample[k]) * scale;
-    }
-  });
+  b.still_mean.resize(g.count());
+  if constexpr (std::is_same_v<Value, float>) {
+    const float scale = complete ? 1.0f / float(still_samples_) : 1.0f;
+    jobs.parallel_for("fog.still_mean", g.columns(), 64, [&](size_t begin, size_t end) {
+      for (size_t c = begin; c < end; ++c) {
+        float* sum = b.still_mean.data() + c * g.nz();
+        const float* sample = b.current.data() + c * g.nz();
+        for (int k = 0; k < view_.lit_slices[c]; ++k) sum[k] = ((first ? 0.0f : sum[k]) + sample[k]) * scale;
+      }
+    });
+  } else {
+    // Codes are summed exactly; the mean rounds half up, and a mean of codes
+    // is a code (at most 32767).
+    still_sum_.resize(g.count());
+    const uint32_t samples = uint32_t(still_samples_);
+    jobs.parallel_for("fog.still_mean", g.columns(), 64, [&](size_t begin, size_t end) {
+      for (size_t c = begin; c < end; ++c) {
+        uint32_t* sum = still_sum_.data() + c * g.nz();
+        const uint16_t* sample = b.current.data() + c * g.nz();
+        uint16_t* mean = b.still_mean.data() + c * g.nz();
+        for (int k = 0; k < view_.lit_slices[c]; ++k) {
+          sum[k] = (first ? 0u : sum[k]) + sample[k];
+          if (complete) mean[k] = uint16_t((sum[k] + samples / 2) / samples);
+        }
+      }
+    });
+  }
 }
 
 void FroxelFog::reproject(JobSystem& jobs) {
   if (!profile_.reprojection || regime_ == FogRegime::Frozen) return;
+  if (fixed_point())
+    reproject_in<Q15SunTerm>(fixed_, jobs);
+  else
+    reproject_in<FloatSunTerm>(float_, jobs);
+}
+
+template <class F>
+void FroxelFog::reproject_in(SunBuffers<typename F::Value>& b, JobSystem& jobs) {
   float weight = profile_.history_weight;
   bool clamp = profile_.history_clamp;
   switch (regime_) {
@@ -195,13 +235,13 @@ void FroxelFog::reproject(JobSystem& jobs) {
     case FogRegime::Frozen:
       break;
   }
-  std::vector<float>& out = history_[current_];
+  auto& out = b.history[current_];
   if (regime_ != FogRegime::NoHistory) {
-    const std::vector<float>& current = regime_ == FogRegime::StillMean ? still_mean_ : sun_current_;
-    stats_.reproject = reproject_history(view_, current, history_view_, history_[1 - current_], weight, clamp,
-                                         jobs, out, light_changed_ ? &light_change_ : nullptr);
+    const auto& current = regime_ == FogRegime::StillMean ? b.still_mean : b.current;
+    stats_.reproject = reproject_history(view_, current, history_view_, b.history[1 - current_], weight, clamp,
+                                         jobs, out, light_changed_ ? &b.light_change : nullptr);
   } else {
-    out.swap(sun_current_);  // no history: the blend is the current light (lighting rewrites sun_current_)
+    out.swap(b.current);  // no history: the blend is the current light (lighting rewrites current)
   }
   blended_ = current_;
   history_view_ = view_;
@@ -210,7 +250,11 @@ void FroxelFog::reproject(JobSystem& jobs) {
 }
 
 void FroxelFog::filter(JobSystem& jobs) {
-  if (filter_now_) filter_slices(view_, blended(), jobs, scratch_, filtered_);
+  if (!filter_now_) return;
+  if (fixed_point())
+    filter_slices(view_, blended(fixed_), jobs, fixed_.scratch, fixed_.filtered);
+  else
+    filter_slices(view_, blended(float_), jobs, float_.scratch, float_.filtered);
 }
 
 MediumLighting medium_lighting(const FogSceneSettings& scene, const LightEnvironment& light, const Camera& camera) {
@@ -233,30 +277,42 @@ void FroxelFog::integrate(const LightEnvironment& light, JobSystem& jobs) {
   // visibility, the same light): last frame's volume is this frame's, bit for bit.
   stats_.volume_kept = regime_ == FogRegime::Frozen && !volume_stale_ && same_light;
   if (stats_.volume_kept) return;
-  // A still view saves the visibility it integrates. The next frame, if it
-  // is still too, has the same view, lit and active froxels and density (the
-  // volume was integrated last frame, or kept since): under the same light
-  // it integrates only what changed.
-  const bool still = is_still(regime_);
-  IncrementalIntegration incremental;
-  if (still) {
-    incremental.previous = &integrated_visibility_;
-    incremental.continue_volume = visibility_saved_ && density_kept_ && same_light;
-  }
-  stats_.integrated_froxels = integrate_columns(view_, density_, sun_visibility(), m, knots, jobs, volume_, incremental);
-  visibility_saved_ = still;
+  stats_.integrated_froxels = fixed_point() ? integrate_in(fixed_, m, knots, same_light, jobs, fixed_volume_)
+                                             : integrate_in(float_, m, knots, same_light, jobs, volume_);
+  visibility_saved_ = is_still(regime_);
   integrated_light_ = m;
   integrated_light_.light = nullptr;  // borrowed for this frame only
   integrated_knots_ = std::move(knots);
   volume_stale_ = false;
 }
 
+template <class Value, class Froxel>
+size_t FroxelFog::integrate_in(SunBuffers<Value>& b, const MediumLighting& m, const std::vector<glm::vec3>& knots,
+                               bool same_light, JobSystem& jobs, std::vector<Froxel>& volume) {
+  // A still view saves the visibility it integrates. The next frame, if it
+  // is still too, has the same view, lit and active froxels and density (the
+  // volume was integrated last frame, or kept since): under the same light
+  // it integrates only what changed.
+  IncrementalIntegration<Value> incremental;
+  if (is_still(regime_)) {
+    incremental.previous = &b.integrated_visibility;
+    incremental.continue_volume = visibility_saved_ && density_kept_ && same_light;
+  }
+  return integrate_columns(view_, density_, integration_input(b), m, knots, jobs, volume, incremental);
+}
+
 void FroxelFog::composite(FrameBuffers& buffers, int x0, int y0, int x1, int y1) const {
-  composite_fog(view_.grid, volume_, buffers.distance, buffers.color, buffers.width, x0, y0, x1, y1);
+  if (fixed_point())
+    composite_fog(view_.grid, fixed_volume_, buffers.distance, buffers.color, buffers.width, x0, y0, x1, y1);
+  else
+    composite_fog(view_.grid, volume_, buffers.distance, buffers.color, buffers.width, x0, y0, x1, y1);
 }
 
 void FroxelFog::composite_fragments(std::span<EdgeFragment> fragments) const {
-  composite_fog_fragments(view_.grid, volume_, fragments);
+  if (fixed_point())
+    composite_fog_fragments(view_.grid, fixed_volume_, fragments);
+  else
+    composite_fog_fragments(view_.grid, volume_, fragments);
 }
 
 void FroxelFog::render(const FrameView& view, const LightEnvironment& light, const ShadowMap& shadow,

@@ -10,6 +10,10 @@
 // the row). How a frame uses its history is one FogRegime, decided once per
 // frame (decide_regime): a still view lights until its jitter sequence is
 // complete, then fades its history to the sequence's mean and freezes.
+//
+// With "precision": "fixed" the sun term is stored and blended as q15 codes
+// (sun_term_format.h) and the integrated volume is FixedIntegratedFroxel
+// (fixed_volume.h); the steps and regimes are the same.
 #include <span>
 #include <vector>
 
@@ -18,6 +22,7 @@
 #include "engine/render/plugin.h"
 #include "engine/shading/light_environment.h"
 #include "engine/shading/shadow_map.h"
+#include "fog/fixed_volume.h"
 #include "fog/fog_medium.h"
 #include "fog/fog_settings.h"
 #include "fog/froxel_passes.h"
@@ -105,20 +110,59 @@ class FroxelFog {
   const FroxelGrid& grid() const { return view_.grid; }
   const FroxelView& view() const { return view_; }
   const std::vector<FogDensity>& density_volume() const { return density_; }
-  // The sun visibility the integration uses (after reprojection and filter).
-  const std::vector<float>& sun_visibility() const { return filter_now_ ? filtered_ : blended(); }
-  // Valid in each column's active slices (view().active_slices).
+  bool fixed_point() const { return profile_.precision == FogPrecision::Fixed; }
+  // The sun visibility the integration uses (after reprojection and filter):
+  // float, or q15 codes with fixed_point().
+  const std::vector<float>& sun_visibility() const { return integration_input(float_); }
+  const std::vector<uint16_t>& sun_visibility_q15() const { return integration_input(fixed_); }
+  // Valid in each column's active slices (view().active_slices): the float
+  // volume, or the fixed-point one with fixed_point().
   const std::vector<IntegratedFroxel>& volume() const { return volume_; }
+  const std::vector<FixedIntegratedFroxel>& fixed_volume() const { return fixed_volume_; }
+  // Froxel `index` of either volume as floats (the fixed-point one decoded).
+  IntegratedFroxel integrated_froxel(size_t index) const {
+    return fixed_point() ? decode_froxel(view_.grid, fixed_volume_, index) : volume_[index];
+  }
   const FroxelFogStats& stats() const { return stats_; }
 
  private:
-  const std::vector<float>& blended() const { return blended_ < 0 ? sun_current_ : history_[blended_]; }
+  // The sun term's buffers in one format: float, or q15 codes.
+  template <class Value>
+  struct SunBuffers {
+    std::vector<Value> current;  // this frame's lighting
+    std::vector<Value> light_change;  // valid this frame when light_changed_
+    std::vector<Value> history[2];  // [current_] written this frame, the other read
+    std::vector<Value> scratch, filtered;
+    // The still run's samples, one per jitter phase (lit slices): their
+    // sum, then, once every phase is in, their mean (q15: still_sum_ sums).
+    std::vector<Value> still_mean;
+    // For incremental integration in still views: the visibility the volume
+    // was integrated from, saved when that frame was still.
+    std::vector<Value> integrated_visibility;
+  };
+  template <class Value>
+  const std::vector<Value>& blended(const SunBuffers<Value>& b) const {
+    return blended_ < 0 ? b.current : b.history[blended_];
+  }
+  template <class Value>
+  const std::vector<Value>& integration_input(const SunBuffers<Value>& b) const {
+    return filter_now_ ? b.filtered : blended(b);
+  }
+  // The steps' work on one format's buffers (F: sun_term_format.h).
+  template <class F>
+  void light_in(SunBuffers<typename F::Value>& b, const ShadowMap& shadow, JobSystem& jobs, const ShadowMap* previous);
+  template <class F>
+  void reproject_in(SunBuffers<typename F::Value>& b, JobSystem& jobs);
+  template <class Value, class Froxel>
+  size_t integrate_in(SunBuffers<Value>& b, const MediumLighting& m, const std::vector<glm::vec3>& knots,
+                      bool same_light, JobSystem& jobs, std::vector<Froxel>& volume);
   // The frame's regime and what follows from it (light change, still frames,
   // filter, stats), from the view, the density, the shadow maps and the
   // history: the one place a frame's treatment of its history is decided.
   void decide_regime(const ShadowMap& shadow, const ShadowMap* previous);
   // Adds this frame's sample to the still run's (once per jitter phase).
-  void add_still_sample(JobSystem& jobs);
+  template <class Value>
+  void add_still_sample(SunBuffers<Value>& b, JobSystem& jobs);
 
   FogProfileSettings profile_;
   FogSceneSettings scene_;
@@ -126,7 +170,7 @@ class FroxelFog {
   FroxelView view_;
   int frame_ = 0;
   bool view_history_valid_ = false;  // this frame's FrameView::history_valid
-  bool have_history_ = false;        // a blend is in history_[1 - current_] (reset_history forgets it)
+  bool have_history_ = false;        // a blend is in the buffers' history[1 - current_] (reset_history forgets it)
   FogRegime regime_ = FogRegime::NoHistory;
   int lighting_samples_ = 1;
   DensityPlan density_plan_;
@@ -135,26 +179,22 @@ class FroxelFog {
   FroxelView density_view_;
   bool density_valid_ = false;  // density_ holds density_view_'s voxelisation
   bool density_kept_ = false;   // this frame's view is density_view_: no voxelisation
-  std::vector<float> sun_current_;
+  SunBuffers<float> float_;
+  SunBuffers<uint16_t> fixed_;
+  std::vector<uint32_t> still_sum_;  // q15: the still run's sum of codes
   std::vector<SliceSpan> unsettled_;  // a still view's slices to light per column (settled_froxels.h)
   std::vector<uint64_t> settled_scratch_;
-  std::vector<float> light_change_;  // valid this frame when light_changed_
   // The sun moved since the history's shadow map (with light_change_rejection):
-  // lighting measures light_change_ and reprojection drops history by it.
+  // lighting measures the light change and reprojection drops history by it.
   // Decided with the regime; in practice Moving, as a moved sun ends a still view.
   bool light_changed_ = false;
   glm::vec3 history_sun_{0.0f};  // the last frame's shadow-map sun (0: no map)
-  std::vector<float> history_[2];  // [current_] written this frame, the other read
   int current_ = 0;
   FroxelView history_view_;
-  std::vector<float> scratch_, filtered_;
-  bool filter_now_ = false;  // the filter runs this frame: filtered_ holds its output
+  bool filter_now_ = false;  // the filter runs this frame: the buffers' filtered holds its output
   static constexpr int kMaxStillFrames = 1 << 16;  // the running mean's weight stops at 65536 / 65537
   int still_frames_ = 0;
-  // The still run's samples, one per jitter phase (lit slices): their sum,
-  // then, once every phase is in (still_phases_ == kAllPhases), their mean.
-  std::vector<float> still_mean_;
-  unsigned still_phases_ = 0;
+  unsigned still_phases_ = 0;  // the jitter phases in the still run's samples (kAllPhases: their mean is complete)
   int still_samples_ = 0;  // in the sum (one covers every phase without jitter)
   static constexpr unsigned kAllPhases = (1u << kJitterFrames) - 1;
   // Once the mean is complete: the share of the history that is not the
@@ -162,17 +202,15 @@ class FroxelFog {
   // kFreezeShare the view is frozen.
   float fading_share_ = 1.0f;
   static constexpr float kFreezeShare = 1.0f / 64.0f;
-  int blended_ = -1;  // the reprojection's output: history_[blended_], or sun_current_ when -1
+  int blended_ = -1;  // the reprojection's output: history[blended_], or current when -1
   std::vector<IntegratedFroxel> volume_;
+  std::vector<FixedIntegratedFroxel> fixed_volume_;
   // What volume_ was integrated from: stale once lighting (density and
   // visibility) runs again; the light and sun knots it was integrated under.
   bool volume_stale_ = true;
   MediumLighting integrated_light_;
   std::vector<glm::vec3> integrated_knots_;
-  // For incremental integration in still views: the visibility volume_ was
-  // integrated from, saved when that frame was still.
-  std::vector<float> integrated_visibility_;
-  bool visibility_saved_ = false;
+  bool visibility_saved_ = false;  // the buffers' integrated_visibility holds the last still frame's
   FroxelFogStats stats_;
 };
 

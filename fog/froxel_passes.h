@@ -6,10 +6,13 @@
 //
 // Data per froxel (column-major, see FroxelGrid):
 //   density    FogDensity: scattering RGB and extinction at the froxel centre
-//   sun        float: the sun's shadow visibility at an importance-sampled
-//              point of the froxel (no illuminance, no phase function)
+//   sun        the sun's shadow visibility at an importance-sampled point of
+//              the froxel (no illuminance, no phase function): float, or q15
+//              codes with "precision": "fixed" (sun_term_format.h); the
+//              passes that carry it have an overload for each
 //   volume     IntegratedFroxel: in-scattered radiance and transmittance from
 //              the near plane to the froxel's far boundary, and its extinction
+//              (fixed point: FixedIntegratedFroxel, fixed_volume.h)
 #include <array>
 #include <cstdint>
 #include <functional>
@@ -22,6 +25,7 @@
 #include "engine/render/frame_buffers.h"
 #include "engine/scene/camera.h"
 #include "engine/shading/light_environment.h"
+#include "fog/fixed_volume.h"
 #include "fog/fog_medium.h"
 #include "fog/froxel_grid.h"
 #include "fog/volume_shadow.h"
@@ -116,18 +120,27 @@ struct JitterInputs {
 // With `settled` (a still view, see settled_froxels.h), each column lights
 // only the slices of its span and takes the settled samples elsewhere; it is
 // ignored with `previous` (a moving sun lights everything).
+//
+// The q15 overload evaluates the same floats and stores each froxel's
+// visibility and light change rounded to q15 (the settled samples are codes).
 struct SliceSpan {  // slices [first, end) of a column
   uint16_t first = 0, end = 0;
 };
+template <class Value>
 struct SettledSamples {
   const std::vector<SliceSpan>* spans = nullptr;  // per column: the slices to light
-  const std::vector<float>* values = nullptr;     // the sample of every other lit slice
+  const std::vector<Value>* values = nullptr;     // the sample of every other lit slice
 };
 void light_froxels(const FroxelView& view, const std::vector<FogDensity>& density, const VolumeShadow& shadow,
                    const JitterInputs& jitter, JobSystem& jobs, std::vector<float>& sun_visibility,
                    const std::function<void(int y0, int y1)>& before_rows = nullptr,
                    const VolumeShadow* previous = nullptr, std::vector<float>* light_change = nullptr,
-                   const SettledSamples* settled = nullptr);
+                   const SettledSamples<float>* settled = nullptr);
+void light_froxels(const FroxelView& view, const std::vector<FogDensity>& density, const VolumeShadow& shadow,
+                   const JitterInputs& jitter, JobSystem& jobs, std::vector<uint16_t>& sun_visibility,
+                   const std::function<void(int y0, int y1)>& before_rows = nullptr,
+                   const VolumeShadow* previous = nullptr, std::vector<uint16_t>* light_change = nullptr,
+                   const SettledSamples<uint16_t>* settled = nullptr);
 
 // The same camera and grid layout: history is read in place.
 bool same_view(const FroxelView& a, const FroxelView& b);
@@ -141,6 +154,8 @@ bool same_view(const FroxelView& a, const FroxelView& b);
 // largest change in its 3x3 neighbourhood in the slice): where a moving sun
 // changed the visibility, history is dropped in proportion (a one-point
 // measure misses most of a froxel, its neighbours' see the edge coming).
+// The q15 overload blends by q15 lerps at q15 weights (the trilinear read's
+// too); light change c scales the history share by (32768 - c) / 32768.
 struct ReprojectStats {
   bool identity = false;       // same camera: history read in place
   size_t reads = 0;            // froxels whose history was looked up (with the clamp, those whose range is not one value)
@@ -150,11 +165,18 @@ ReprojectStats reproject_history(const FroxelView& view, const std::vector<float
                                  const FroxelView& history_view, const std::vector<float>& history,
                                  float history_weight, bool clamp, JobSystem& jobs, std::vector<float>& out,
                                  const std::vector<float>* light_change = nullptr);
+ReprojectStats reproject_history(const FroxelView& view, const std::vector<uint16_t>& current,
+                                 const FroxelView& history_view, const std::vector<uint16_t>& history,
+                                 float history_weight, bool clamp, JobSystem& jobs, std::vector<uint16_t>& out,
+                                 const std::vector<uint16_t>* light_change = nullptr);
 
 // fog.filter: 3x3 Gaussian (sigma 1 froxel) in each slice, separable, clamped
-// at the edges; produces the active slices of each column.
+// at the edges; produces the active slices of each column. The q15 overload
+// weighs each tap by integer weights summing to 32768 and rounds half up.
 void filter_slices(const FroxelView& view, const std::vector<float>& in, JobSystem& jobs, std::vector<float>& scratch,
                    std::vector<float>& out);
+void filter_slices(const FroxelView& view, const std::vector<uint16_t>& in, JobSystem& jobs,
+                   std::vector<uint16_t>& scratch, std::vector<uint16_t>& out);
 
 struct IntegratedFroxel {
   glm::vec3 in_scatter{0.0f};  // radiance added between the near plane and the far boundary
@@ -197,27 +219,51 @@ std::vector<glm::vec3> sun_knots(const FroxelView& view, const MediumLighting& l
 // and the recurrence continues from there: the same bits as integrating
 // all of it. previous is brought up to date either way. Returns how many
 // froxels were integrated.
+//
+// The fixed-point overload (q15 visibility, FixedIntegratedFroxel: see
+// fixed_volume.h and integration.cpp) keeps a column whose visibility is
+// unchanged and integrates a changed one whole.
+template <class Visibility>
 struct IncrementalIntegration {
-  std::vector<float>* previous = nullptr;
+  std::vector<Visibility>* previous = nullptr;
   bool continue_volume = false;
 };
 size_t integrate_columns(const FroxelView& view, const std::vector<FogDensity>& density,
                          const std::vector<float>& sun_visibility, const MediumLighting& lighting,
                          const std::vector<glm::vec3>& knots, JobSystem& jobs, std::vector<IntegratedFroxel>& volume,
-                         const IncrementalIntegration& incremental = {});
+                         const IncrementalIntegration<float>& incremental = {});
+size_t integrate_columns(const FroxelView& view, const std::vector<FogDensity>& density,
+                         const std::vector<uint16_t>& sun_visibility, const MediumLighting& lighting,
+                         const std::vector<glm::vec3>& knots, JobSystem& jobs,
+                         std::vector<FixedIntegratedFroxel>& volume,
+                         const IncrementalIntegration<uint16_t>& incremental = {});
 
 // Composite of pixels [x0,x1) x [y0,y1): colour = colour * T + L at the
 // pixel's distance. Bilinear across columns; along depth the froxel's
 // homogeneous-medium closed form, so nothing behind the pixel's surface is
 // added (no leak through opaque geometry). Sky (+inf) uses the far end.
+// The fixed-point volume's froxels are decoded as they are read (radiance
+// from hdr16, transmittance exp2_neg_q15 of the depth code, extinction from
+// the depth codes' difference) and take the same float closed form.
 void composite_fog(const FroxelGrid& grid, const std::vector<IntegratedFroxel>& volume,
+                   const std::vector<float>& distance, std::vector<glm::vec3>& color, int width, int x0, int y0,
+                   int x1, int y1);
+void composite_fog(const FroxelGrid& grid, const std::vector<FixedIntegratedFroxel>& volume,
                    const std::vector<float>& distance, std::vector<glm::vec3>& color, int width, int x0, int y0,
                    int x1, int y1);
 // The same for edge-pixel fragments, each at its own screen position and distance.
 void composite_fog_fragments(const FroxelGrid& grid, const std::vector<IntegratedFroxel>& volume,
                              std::span<EdgeFragment> fragments);
+void composite_fog_fragments(const FroxelGrid& grid, const std::vector<FixedIntegratedFroxel>& volume,
+                             std::span<EdgeFragment> fragments);
 // The lookup itself: in-scattered radiance and transmittance at a pixel position and distance.
 void lookup_fog(const FroxelGrid& grid, const std::vector<IntegratedFroxel>& volume, float px, float py,
                 float distance, glm::vec3& in_scatter, float& transmittance);
+void lookup_fog(const FroxelGrid& grid, const std::vector<FixedIntegratedFroxel>& volume, float px, float py,
+                float distance, glm::vec3& in_scatter, float& transmittance);
+// A fixed-point froxel as the float record the composite reads: index's
+// radiance and transmittance, and its slice's extinction.
+IntegratedFroxel decode_froxel(const FroxelGrid& grid, const std::vector<FixedIntegratedFroxel>& volume,
+                               size_t index);
 
 }  // namespace cr

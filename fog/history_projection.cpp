@@ -1,5 +1,5 @@
-// HistoryProjection::read: the trilinear history reads, eight slices at a
-// time where the CPU has AVX2.
+// HistoryProjection::read: the trilinear history reads, floats eight slices
+// at a time where the CPU has AVX2; q15 codes one slice at a time.
 #include "fog/history_projection.h"
 
 #include <immintrin.h>
@@ -16,7 +16,9 @@ namespace {
 // in lanes with read_slices' float operations in its order (z, then x, then
 // y), so both paths give the same bits. A slice at the grid's last slice
 // (no z0 + 1) takes read_slices.
-__attribute__((target("avx2"))) size_t read_avx2(const HistoryProjection& p, const HistoryProjection::Scratch& s,
+using FloatProjection = HistoryProjection<FloatSunTerm>;
+
+__attribute__((target("avx2"))) size_t read_avx2(const FloatProjection& p, const FloatProjection::Scratch& s,
                                                  const float* cur, int n, float* h) {
   const FroxelGrid& hg = *p.grid;
   const int nx = hg.nx(), ny = hg.ny(), nz = hg.nz();
@@ -101,9 +103,15 @@ __attribute__((target("avx2"))) size_t read_avx2(const HistoryProjection& p, con
 
 }  // namespace
 
-size_t HistoryProjection::read(const Scratch& s, const float* cur, int n, float* h) const {
+template <>
+size_t HistoryProjection<FloatSunTerm>::read(const Scratch& s, const float* cur, int n, float* h) const {
   static const bool avx2 = __builtin_cpu_supports("avx2");
   return avx2 && grid->nz() >= 2 ? read_avx2(*this, s, cur, n, h) : read_slices(s, cur, 0, n, h);
+}
+
+template <>
+size_t HistoryProjection<Q15SunTerm>::read(const Scratch& s, const uint16_t* cur, int n, uint16_t* h) const {
+  return read_slices(s, cur, 0, n, h);
 }
 
 }  // namespace cr

@@ -9,17 +9,20 @@
 
 #include "engine/core/fast_math.h"
 #include "fog/froxel_passes.h"
+#include "fog/sun_term_format.h"
 
 namespace cr {
 
 // Projection of a column's froxel centres into the history's grid, set up
-// once per frame. A column's centres lie on one line, q(t) = offset + t dv in
+// once per frame, for a history of values in format F (sun_term_format.h). A column's centres lie on one line, q(t) = offset + t dv in
 // the history camera's frame (right, up, forward, relative to its position),
 // so the projection runs as flat loops over the slices (the slice encoding's
 // log is fast_log, which vectorises), then the trilinear reads per slice.
+template <class F>
 struct HistoryProjection {
+  using Value = typename F::Value;
   const FroxelGrid* grid;
-  const float* values;
+  const Value* values;
   // Per history column (x0, y0): the fewest slices the 2x2 columns x0..x1,
   // y0..y1 of a trilinear read from there hold (x1, y1 clamped to the grid).
   std::vector<uint16_t> lit_2x2;
@@ -28,7 +31,7 @@ struct HistoryProjection {
   float max_px, max_py;    // grid extent in pixels
   float inv_size;          // 1 / froxel size
 
-  HistoryProjection(const FroxelView& hv, const std::vector<float>& history) {
+  HistoryProjection(const FroxelView& hv, const std::vector<Value>& history) {
     grid = &hv.grid;
     values = history.data();
     const int nx = grid->nx(), ny = grid->ny();
@@ -83,12 +86,13 @@ struct HistoryProjection {
 
   // h[k] = the trilinear history at slice k's projected point, or cur[k]
   // where there is none (outside the history's frustum or fog range, or a
-  // corner the history culled). Returns how many slices had none. Eight
-  // slices at a time where the CPU has AVX2 (read_avx2, the same bits).
-  size_t read(const Scratch& s, const float* cur, int n, float* h) const;
+  // corner the history culled). Returns how many slices had none. Floats
+  // eight slices at a time where the CPU has AVX2 (read_avx2, the same bits).
+  size_t read(const Scratch& s, const Value* cur, int n, Value* h) const;
 
-  // read's definition, one slice at a time over slices [k0, n).
-  size_t read_slices(const Scratch& s, const float* cur, int k0, int n, float* h) const {
+  // read's definition, one slice at a time over slices [k0, n): lerps in z,
+  // then x, then y, at the format's weights.
+  size_t read_slices(const Scratch& s, const Value* cur, int k0, int n, Value* h) const {
     const FroxelGrid& hg = *grid;
     const int nx = hg.nx(), ny = hg.ny(), nz = hg.nz();
     size_t rejected = 0;
@@ -111,17 +115,23 @@ struct HistoryProjection {
         ++rejected;
         continue;
       }
-      const float ax = fx - float(x0), ay = fy - float(y0), az = fz - float(z0);
+      const typename F::Weight ax = F::weight(fx - float(x0)), ay = F::weight(fy - float(y0)),
+                               az = F::weight(fz - float(z0));
       auto lerp_z = [&](int xi, int yi) {
-        const float* c = values + hg.index(xi, yi, z0);
-        return c[0] + (c[dz] - c[0]) * az;
+        const Value* c = values + hg.index(xi, yi, z0);
+        return F::lerp(c[0], c[dz], az);
       };
-      const float v00 = lerp_z(x0, y0), v10 = lerp_z(x1, y0), v01 = lerp_z(x0, y1), v11 = lerp_z(x1, y1);
-      const float v0 = v00 + (v10 - v00) * ax, v1 = v01 + (v11 - v01) * ax;
-      h[k] = v0 + (v1 - v0) * ay;
+      const Value v00 = lerp_z(x0, y0), v10 = lerp_z(x1, y0), v01 = lerp_z(x0, y1), v11 = lerp_z(x1, y1);
+      const Value v0 = F::lerp(v00, v10, ax), v1 = F::lerp(v01, v11, ax);
+      h[k] = F::lerp(v0, v1, ay);
     }
     return rejected;
   }
 };
+
+template <>
+size_t HistoryProjection<FloatSunTerm>::read(const Scratch& s, const float* cur, int n, float* h) const;
+template <>
+size_t HistoryProjection<Q15SunTerm>::read(const Scratch& s, const uint16_t* cur, int n, uint16_t* h) const;
 
 }  // namespace cr

@@ -23,22 +23,28 @@
 // the history, each sample is also looked up in last frame's shadow map:
 // the difference is the light's own change at that point, which
 // reprojection uses to drop history (see froxel_passes.h).
+//
+// The q15 output (sun_term_format.h) is the same float evaluation, summed
+// in a column of scratch and rounded to q15 once per froxel.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <type_traits>
 
 #include "fog/froxel_passes.h"
 #include "fog/homogeneous_medium.h"
 #include "fog/jitter_sequence.h"
+#include "fog/sun_term_format.h"
 
 namespace cr {
 
 namespace {
 
-// Per-slice scratch of one job.
+// Per-slice scratch of one job; the sums of a column whose output is not float.
 struct ColumnScratch {
-  std::vector<float> t, visibility, previous;
-  explicit ColumnScratch(int nz) : t(size_t(nz)), visibility(size_t(nz)), previous(size_t(nz)) {}
+  std::vector<float> t, visibility, previous, sum, change_sum;
+  explicit ColumnScratch(int nz)
+      : t(size_t(nz)), visibility(size_t(nz)), previous(size_t(nz)), sum(size_t(nz)), change_sum(size_t(nz)) {}
 };
 
 // FogDensity as flat floats (scattering RGB, extinction): the column loops
@@ -101,12 +107,13 @@ ScatteringRange scattering_range(const float* density, int n) {
   return r;
 }
 
-}  // namespace
-
-void light_froxels(const FroxelView& view, const std::vector<FogDensity>& density, const VolumeShadow& shadow,
-                   const JitterInputs& jitter, JobSystem& jobs, std::vector<float>& sun_visibility,
+// light_froxels with output values V: float, or q15 codes (Q15SunTerm).
+template <class V>
+void light_columns(const FroxelView& view, const std::vector<FogDensity>& density, const VolumeShadow& shadow,
+                   const JitterInputs& jitter, JobSystem& jobs, std::vector<V>& sun_visibility,
                    const std::function<void(int y0, int y1)>& before_rows, const VolumeShadow* previous,
-                   std::vector<float>* light_change, const SettledSamples* settled) {
+                   std::vector<V>* light_change, const SettledSamples<V>* settled) {
+  constexpr bool kFloat = std::is_same_v<V, float>;
   const FroxelGrid& g = view.grid;
   const PixelRays rays(view.camera, g.width(), g.height());
   sun_visibility.resize(g.count());
@@ -132,30 +139,37 @@ void light_froxels(const FroxelView& view, const std::vector<FogDensity>& densit
     if (before_rows) before_rows(int(begin), int(end));
     for (int y = int(begin); y < int(end); ++y)
       for (int x = 0; x < nx; ++x) {
-        float* out = sun_visibility.data() + g.index(x, y, 0);
-        float* change = previous ? light_change->data() + g.index(x, y, 0) : nullptr;
+        V* out_column = sun_visibility.data() + g.index(x, y, 0);
+        V* change_column = previous ? light_change->data() + g.index(x, y, 0) : nullptr;
+        // The sums of the lit slices: in place when the output is float.
+        float* out = scratch.sum.data();
+        float* change = change_column ? scratch.change_sum.data() : nullptr;
+        if constexpr (kFloat) {
+          out = out_column;
+          change = change_column;
+        }
         const float* flat = reinterpret_cast<const float*>(density.data() + g.index(x, y, 0));
         const int n = view.lit_slices[size_t(y) * nx + x];
         ScatteringRange lit = scattering_range(flat, n);
         // Outside the range the froxels are clear air: 0.
-        for (int k = 0; k < lit.first; ++k) out[k] = 0.0f;
-        for (int k = lit.end; k < n; ++k) out[k] = 0.0f;
+        for (int k = 0; k < lit.first; ++k) out_column[k] = V(0);
+        for (int k = lit.end; k < n; ++k) out_column[k] = V(0);
         if (settled) {
           // Settled froxels take their settled sample; the rest are lit.
           const SliceSpan span = (*settled->spans)[size_t(y) * nx + x];
-          const float* value = settled->values->data() + g.index(x, y, 0);
+          const V* value = settled->values->data() + g.index(x, y, 0);
           const int first = std::max(lit.first, int(span.first)), end = std::min(lit.end, int(span.end));
           if (first >= end) {
-            std::copy(value + lit.first, value + lit.end, out + lit.first);
+            std::copy(value + lit.first, value + lit.end, out_column + lit.first);
             continue;
           }
-          std::copy(value + lit.first, value + first, out + lit.first);
-          std::copy(value + end, value + lit.end, out + end);
+          std::copy(value + lit.first, value + first, out_column + lit.first);
+          std::copy(value + end, value + lit.end, out_column + end);
           lit = ScatteringRange{first, end};
         }
-        if (change) {
-          std::fill(change, change + lit.first, 0.0f);
-          std::fill(change + lit.end, change + n, 0.0f);
+        if (change_column) {
+          std::fill(change_column, change_column + lit.first, V(0));
+          std::fill(change_column + lit.end, change_column + n, V(0));
         }
         if (lit.first == lit.end) continue;
         const int m = lit.end - lit.first;
@@ -181,12 +195,33 @@ void light_froxels(const FroxelView& view, const std::vector<FogDensity>& densit
           }
         }
         if (samples > 1)
-          for (int k = 0; k < n; ++k) {
+          for (int k = lit.first; k < lit.end; ++k) {
             out[k] /= float(samples);
             if (change) change[k] /= float(samples);
           }
+        if constexpr (!kFloat) {
+          for (int k = lit.first; k < lit.end; ++k) out_column[k] = Q15SunTerm::encode(out[k]);
+          if (change)
+            for (int k = lit.first; k < lit.end; ++k) change_column[k] = Q15SunTerm::encode(change[k]);
+        }
       }
   });
+}
+
+}  // namespace
+
+void light_froxels(const FroxelView& view, const std::vector<FogDensity>& density, const VolumeShadow& shadow,
+                   const JitterInputs& jitter, JobSystem& jobs, std::vector<float>& sun_visibility,
+                   const std::function<void(int y0, int y1)>& before_rows, const VolumeShadow* previous,
+                   std::vector<float>* light_change, const SettledSamples<float>* settled) {
+  light_columns(view, density, shadow, jitter, jobs, sun_visibility, before_rows, previous, light_change, settled);
+}
+
+void light_froxels(const FroxelView& view, const std::vector<FogDensity>& density, const VolumeShadow& shadow,
+                   const JitterInputs& jitter, JobSystem& jobs, std::vector<uint16_t>& sun_visibility,
+                   const std::function<void(int y0, int y1)>& before_rows, const VolumeShadow* previous,
+                   std::vector<uint16_t>* light_change, const SettledSamples<uint16_t>* settled) {
+  light_columns(view, density, shadow, jitter, jobs, sun_visibility, before_rows, previous, light_change, settled);
 }
 
 }  // namespace cr

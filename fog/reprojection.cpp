@@ -1,7 +1,7 @@
 // fog.reproject: temporal accumulation of the jittered sun term.
 //
 // What is reprojected: only the sun's shadow visibility at the jittered
-// sample (one float per froxel). Density, the sun's illuminance, ambient
+// sample (one value per froxel, float or q15: sun_term_format.h). Density, the sun's illuminance, ambient
 // light and the phase function are evaluated every frame at the froxel
 // centre without jitter, so they need no history and cannot ghost; in particular the anisotropic phase
 // is applied after the blend with the current view direction, which is exact
@@ -35,24 +35,27 @@
 #include "fog/froxel_passes.h"
 #include "fog/history_projection.h"
 #include "fog/slice_masks.h"
+#include "fog/sun_term_format.h"
 
 namespace cr {
 
 namespace {
 
 // Per slice j < need: the min and max of the three columns a, b, c (one
-// above the other) over those whose lit slices include j; +inf / -inf where
-// none does. Min and max are exact, so the range is the reference's whatever
-// the grouping (up to a zero's sign, which the clamped blend cannot show).
-void vertical_min_max(const float* a, int lit_a, const float* b, int lit_b, const float* c, int lit_c, int need,
-                      float* __restrict lo, float* __restrict hi) {
+// above the other) over those whose lit slices include j; the format's
+// kAbove / kBelow (+inf / -inf) where none does. Min and max are exact, so
+// the range is the reference's whatever the grouping (up to a zero's sign,
+// which the clamped blend cannot show).
+template <class F, class V = typename F::Value>
+void vertical_min_max(const V* a, int lit_a, const V* b, int lit_b, const V* c, int lit_c, int need,
+                      V* __restrict lo, V* __restrict hi) {
   const int all = std::min({lit_a, lit_b, lit_c, need});
   for (int j = 0; j < all; ++j) {
     lo[j] = std::min(std::min(a[j], b[j]), c[j]);
     hi[j] = std::max(std::max(a[j], b[j]), c[j]);
   }
-  std::fill(lo + all, lo + std::max(all, need), INFINITY);
-  std::fill(hi + all, hi + std::max(all, need), -INFINITY);
+  std::fill(lo + all, lo + std::max(all, need), F::kAbove);
+  std::fill(hi + all, hi + std::max(all, need), F::kBelow);
   for (const auto& [col, lit] : {std::pair{a, lit_a}, std::pair{b, lit_b}, std::pair{c, lit_c}})
     for (int j = all; j < std::min(lit, need); ++j) {
       lo[j] = std::min(lo[j], col[j]);
@@ -62,11 +65,12 @@ void vertical_min_max(const float* a, int lit_a, const float* b, int lit_b, cons
 
 // Per slice j < need: the largest of columns a, b, c (one above the other)
 // over those whose lit slices include j; 0 where none does.
-void vertical_max(const float* a, int lit_a, const float* b, int lit_b, const float* c, int lit_c, int need,
-                  float* __restrict out) {
+template <class F, class V = typename F::Value>
+void vertical_max(const V* a, int lit_a, const V* b, int lit_b, const V* c, int lit_c, int need,
+                  V* __restrict out) {
   const int all = std::min({lit_a, lit_b, lit_c, need});
   for (int j = 0; j < all; ++j) out[j] = std::max(std::max(a[j], b[j]), c[j]);
-  std::fill(out + all, out + std::max(all, need), 0.0f);
+  std::fill(out + all, out + std::max(all, need), F::kZero);
   for (const auto& [col, lit] : {std::pair{a, lit_a}, std::pair{b, lit_b}, std::pair{c, lit_c}})
     for (int j = all; j < std::min(lit, need); ++j) out[j] = std::max(out[j], col[j]);
 }
@@ -91,12 +95,13 @@ struct Neighbourhood {
   // middle one is; an unlit one counts as it, without a branch). Min and
   // max are exact, so any grouping gives the same range (up to a zero's
   // sign, which the clamped blend cannot show).
-  void range(const float* values, int j, float& lo, float& hi) const {
-    const float middle = values[base[4] + size_t(j)];
-    float l = middle, h = middle;
+  template <class V>
+  void range(const V* values, int j, V& lo, V& hi) const {
+    const V middle = values[base[4] + size_t(j)];
+    V l = middle, h = middle;
     for (int i = 0; i < 9; ++i) {
-      const float read = values[base[i] + size_t(j)];  // in the grid, perhaps stale: selected away
-      const float v = j < lit[i] ? read : middle;
+      const V read = values[base[i] + size_t(j)];  // in the grid, perhaps stale: selected away
+      const V v = j < lit[i] ? read : middle;
       l = std::min(l, v);
       h = std::max(h, v);
     }
@@ -113,33 +118,35 @@ bool same_view(const FroxelView& a, const FroxelView& b) {
          p.vfov_rad == q.vfov_rad && p.aspect == q.aspect && p.znear == q.znear && a.grid.same_layout(b.grid);
 }
 
-ReprojectStats reproject_history(const FroxelView& view, const std::vector<float>& current,
-                                 const FroxelView& history_view, const std::vector<float>& history,
-                                 float history_weight, bool clamp, JobSystem& jobs, std::vector<float>& out,
-                                 const std::vector<float>* light_change) {
+namespace {
+
+template <class F, class V = typename F::Value>
+ReprojectStats reproject(const FroxelView& view, const std::vector<V>& current, const FroxelView& history_view,
+                         const std::vector<V>& history, float history_weight, bool clamp, JobSystem& jobs,
+                         std::vector<V>& out, const std::vector<V>* light_change) {
   const FroxelGrid& g = view.grid;
   out.resize(g.count());
   ReprojectStats stats;
-  const float w = history_weight;
+  const typename F::Weight w = F::weight(history_weight);
   stats.identity = same_view(view, history_view);
   const Camera& hc = history_view.camera;
   // Froxel centre in the history camera's view: q(t) = offset + t * R dir.
   const glm::vec3 offset_world(view.camera.position - hc.position);
   const glm::vec3 offset(glm::dot(offset_world, hc.right), glm::dot(offset_world, hc.up),
                          glm::dot(offset_world, hc.forward));
-  std::optional<HistoryProjection> projection;  // set up only for a moved camera
+  std::optional<HistoryProjection<F>> projection;  // set up only for a moved camera
   if (!stats.identity) projection.emplace(history_view, history);
   const int nx = g.nx(), ny = g.ny(), nz = g.nz();
   std::vector<float> centers(static_cast<size_t>(nz));
   for (int k = 0; k < nz; ++k) centers[size_t(k)] = g.center(k);
   std::vector<size_t> rejected_per_row(size_t(ny), 0), reads_per_row(size_t(ny), 0);
-  // Per column the slices are contiguous floats, so the blends run as flat
+  // Per column the slices are contiguous values, so the blends run as flat
   // loops the compiler vectorises.
-  const float* cur_all = current.data();
-  const float* hist_all = history.data();
-  float* out_all = out.data();
+  const V* cur_all = current.data();
+  const V* hist_all = history.data();
+  V* out_all = out.data();
   const uint16_t* lit_all = view.lit_slices.data();
-  const float* change_all = light_change ? light_change->data() : nullptr;
+  const V* change_all = light_change ? light_change->data() : nullptr;
   // A moving camera with the clamp reads history only where the range is
   // not one value: per column, the slices whose current value is exactly 0
   // and exactly 1 (slice_masks.h) find the others.
@@ -153,20 +160,20 @@ ReprojectStats reproject_history(const FroxelView& view, const std::vector<float
         zero_one_masks(cur_all + c * size_t(nz), lit_all[c], words, masks.data() + c * per_column);
     });
   jobs.parallel_for("fog.reproject", size_t(ny), 1, [&](size_t begin, size_t end) {
-    HistoryProjection::Scratch scratch(nz);
+    typename HistoryProjection<F>::Scratch scratch(nz);
     // Streamed (every froxel's history): a column's history, and the clamp
     // range and light change of three neighbouring columns (vertical
     // minima, maxima), rotated along the row.
-    std::vector<float> h(sparse ? 0 : static_cast<size_t>(nz));
-    std::vector<float> range_lo(clamp && !sparse ? 3 * static_cast<size_t>(nz) : 0), range_hi(range_lo.size());
-    std::vector<float> change_max(light_change && !sparse ? 3 * static_cast<size_t>(nz) : 0);
+    std::vector<V> h(sparse ? 0 : static_cast<size_t>(nz));
+    std::vector<V> range_lo(clamp && !sparse ? 3 * static_cast<size_t>(nz) : 0), range_hi(range_lo.size());
+    std::vector<V> change_max(light_change && !sparse ? 3 * static_cast<size_t>(nz) : 0);
     // Sparse: the row's masks ANDed over the three rows, and a column's
     // slices whose range is not one value: their slice, range, centre,
     // current value and history.
     std::vector<uint64_t> vertical(sparse ? size_t(nx) * per_column : 0);
     std::vector<int> open(sparse ? static_cast<size_t>(nz) : 0);
-    std::vector<float> open_lo(open.size()), open_hi(open.size()), open_t(open.size()), open_cur(open.size()),
-        open_h(open.size());
+    std::vector<V> open_lo(open.size()), open_hi(open.size()), open_cur(open.size()), open_h(open.size());
+    std::vector<float> open_t(open.size());
     for (int y = int(begin); y < int(end); ++y) {
       // The row's counts, stored once (rows of other jobs share cache lines).
       size_t reads = 0, rejected = 0;
@@ -179,12 +186,12 @@ ReprojectStats reproject_history(const FroxelView& view, const std::vector<float
       // Range of column xc of this row and its vertical neighbours over the
       // slices any of xc - 1, xc, xc + 1 produces, into slot xc mod 3.
       auto vertical_range = [&](int xc) {
-        vertical_min_max(cur_all + g.index(xc, ya, 0), lit_all[size_t(ya) * nx + xc], cur_all + g.index(xc, y, 0),
+        vertical_min_max<F>(cur_all + g.index(xc, ya, 0), lit_all[size_t(ya) * nx + xc], cur_all + g.index(xc, y, 0),
                          lit_row[xc], cur_all + g.index(xc, yb, 0), lit_all[size_t(yb) * nx + xc], need_of(xc),
                          range_lo.data() + size_t(xc % 3) * nz, range_hi.data() + size_t(xc % 3) * nz);
       };
       auto vertical_change = [&](int xc) {
-        vertical_max(change_all + g.index(xc, ya, 0), lit_all[size_t(ya) * nx + xc], change_all + g.index(xc, y, 0),
+        vertical_max<F>(change_all + g.index(xc, ya, 0), lit_all[size_t(ya) * nx + xc], change_all + g.index(xc, y, 0),
                      lit_row[xc], change_all + g.index(xc, yb, 0), lit_all[size_t(yb) * nx + xc], need_of(xc),
                      change_max.data() + size_t(xc % 3) * nz);
       };
@@ -198,8 +205,8 @@ ReprojectStats reproject_history(const FroxelView& view, const std::vector<float
         const size_t c = size_t(y) * nx + x;
         const int n = lit_row[x];
         const size_t base = g.index(x, y, 0);
-        const float* cur = cur_all + base;
-        float* dst = out_all + base;
+        const V* cur = cur_all + base;
+        V* dst = out_all + base;
         // Clamp the history to the range of the current frame's 3x3
         // neighbourhood in this slice (TAA-style): neighbours sample other
         // depth strata (column hash), so their range brackets the converged
@@ -213,17 +220,16 @@ ReprojectStats reproject_history(const FroxelView& view, const std::vector<float
             for (int j = 0; j < nz; j += 16)
               for (int yy : {ya, y, yb}) __builtin_prefetch(change_all + g.index(x + 2, yy, j));
           // A froxel whose range is one value blends to its current value:
-          // cur + (clamped - cur) w with clamped == cur, which is cur + 0
-          // (a zero of either sign becomes +0). Those whose range is not one
-          // value are overwritten below.
-          for (int j = 0; j < n; ++j) dst[j] = cur[j] + 0.0f;
+          // lerp(cur, clamped, w) with clamped == cur. Those whose range is
+          // not one value are overwritten below.
+          for (int j = 0; j < n; ++j) dst[j] = F::blend_with_itself(cur[j]);
           int count = 0;
           std::optional<Neighbourhood> around;
           for (int wi = 0; wi < words; ++wi)
             for (uint64_t rest = mixed_bits(vertical.data(), nx, x, words, wi, n); rest != 0; rest &= rest - 1) {
               const int j = 64 * wi + __builtin_ctzll(rest);
               if (!around) around.emplace(view, x, y);
-              float lo, hi;
+              V lo, hi;
               around->range(cur_all, j, lo, hi);
               if (lo == hi) continue;
               open[size_t(count)] = j;
@@ -246,15 +252,15 @@ ReprojectStats reproject_history(const FroxelView& view, const std::vector<float
           rejected += projection->read(scratch, open_cur.data(), count, open_h.data());
           for (int i = 0; i < count; ++i) {
             const int j = open[size_t(i)];
-            const float now = open_cur[size_t(i)];
-            const float clamped = std::min(std::max(open_h[size_t(i)], open_lo[size_t(i)]), open_hi[size_t(i)]);
-            float v = now + (clamped - now) * w;
+            const V now = open_cur[size_t(i)];
+            const V clamped = std::min(std::max(open_h[size_t(i)], open_lo[size_t(i)]), open_hi[size_t(i)]);
+            V v = F::lerp(now, clamped, w);
             if (change_all) {
               // The blend's history share scaled by 1 - the 3x3
               // neighbourhood's largest light change.
-              float least, most;
+              V least, most;
               around->range(change_all, j, least, most);
-              v = now + (v - now) * (1.0f - std::min(most, 1.0f));
+              v = F::scale_history_share(now, v, most);
             }
             dst[j] = v;
           }
@@ -263,7 +269,7 @@ ReprojectStats reproject_history(const FroxelView& view, const std::vector<float
         // Streamed: the history of every slice, read in place for the same
         // camera (the slices it lacks take the current value), else
         // projected into h.
-        const float* hist = h.data();
+        const V* hist = h.data();
         if (stats.identity) {
           const int kept = std::min(n, int(history_view.lit_slices[c]));
           if (kept < n) {
@@ -285,29 +291,27 @@ ReprojectStats reproject_history(const FroxelView& view, const std::vector<float
           // The range combines the vertical ranges of columns x - 1, x, x + 1
           // (clamped at the edges).
           if (x + 1 < nx) vertical_range(x + 1);  // into the slot x - 2 used
-          const float* lo = range_lo.data();
-          const float* hi = range_hi.data();
+          const V* lo = range_lo.data();
+          const V* hi = range_hi.data();
           const size_t left = size_t(std::max(x - 1, 0) % 3) * nz, mid = size_t(x % 3) * nz,
                        right = size_t(std::min(x + 1, nx - 1) % 3) * nz;
           for (int j = 0; j < n; ++j) {
-            const float l = std::min(std::min(lo[left + j], lo[mid + j]), lo[right + j]);
-            const float u = std::max(std::max(hi[left + j], hi[mid + j]), hi[right + j]);
-            const float clamped = std::min(std::max(hist[j], l), u);
-            dst[j] = cur[j] + (clamped - cur[j]) * w;
+            const V l = std::min(std::min(lo[left + j], lo[mid + j]), lo[right + j]);
+            const V u = std::max(std::max(hi[left + j], hi[mid + j]), hi[right + j]);
+            const V clamped = std::min(std::max(hist[j], l), u);
+            dst[j] = F::lerp(cur[j], clamped, w);
           }
         } else {
-          for (int j = 0; j < n; ++j) dst[j] = cur[j] + (hist[j] - cur[j]) * w;
+          for (int j = 0; j < n; ++j) dst[j] = F::lerp(cur[j], hist[j], w);
         }
         if (light_change) {
           // The blend's history share scaled by 1 - the 3x3 neighbourhood's largest light change.
           if (x + 1 < nx) vertical_change(x + 1);  // into the slot x - 2 used
-          const float* left = change_max.data() + size_t(std::max(x - 1, 0) % 3) * nz;
-          const float* mid = change_max.data() + size_t(x % 3) * nz;
-          const float* right = change_max.data() + size_t(std::min(x + 1, nx - 1) % 3) * nz;
-          for (int j = 0; j < n; ++j) {
-            const float most = std::min(std::max(std::max(left[j], mid[j]), right[j]), 1.0f);
-            dst[j] = cur[j] + (dst[j] - cur[j]) * (1.0f - most);
-          }
+          const V* left = change_max.data() + size_t(std::max(x - 1, 0) % 3) * nz;
+          const V* mid = change_max.data() + size_t(x % 3) * nz;
+          const V* right = change_max.data() + size_t(std::min(x + 1, nx - 1) % 3) * nz;
+          for (int j = 0; j < n; ++j)
+            dst[j] = F::scale_history_share(cur[j], dst[j], std::max(std::max(left[j], mid[j]), right[j]));
         }
       }
       reads_per_row[size_t(y)] = reads;
@@ -317,6 +321,24 @@ ReprojectStats reproject_history(const FroxelView& view, const std::vector<float
   for (size_t r : rejected_per_row) stats.rejected += r;
   for (size_t r : reads_per_row) stats.reads += r;
   return stats;
+}
+
+}  // namespace
+
+ReprojectStats reproject_history(const FroxelView& view, const std::vector<float>& current,
+                                 const FroxelView& history_view, const std::vector<float>& history,
+                                 float history_weight, bool clamp, JobSystem& jobs, std::vector<float>& out,
+                                 const std::vector<float>* light_change) {
+  return reproject<FloatSunTerm>(view, current, history_view, history, history_weight, clamp, jobs, out,
+                                 light_change);
+}
+
+ReprojectStats reproject_history(const FroxelView& view, const std::vector<uint16_t>& current,
+                                 const FroxelView& history_view, const std::vector<uint16_t>& history,
+                                 float history_weight, bool clamp, JobSystem& jobs, std::vector<uint16_t>& out,
+                                 const std::vector<uint16_t>* light_change) {
+  return reproject<Q15SunTerm>(view, current, history_view, history, history_weight, clamp, jobs, out,
+                               light_change);
 }
 
 }  // namespace cr

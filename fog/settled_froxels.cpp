@@ -13,8 +13,11 @@
 
 namespace cr {
 
-void unsettled_spans(const FroxelView& view, const std::vector<float>& history, JobSystem& jobs,
-                     std::vector<uint64_t>& scratch, std::vector<SliceSpan>& spans) {
+namespace {
+
+template <class V>
+void spans_of(const FroxelView& view, const std::vector<V>& history, JobSystem& jobs, std::vector<uint64_t>& scratch,
+              std::vector<SliceSpan>& spans) {
   const FroxelGrid& g = view.grid;
   const int nx = g.nx(), ny = g.ny(), nz = g.nz();
   const int words = mask_words(nz);
@@ -54,6 +57,18 @@ void unsettled_spans(const FroxelView& view, const std::vector<float>& history, 
       }
     }
   });
+}
+
+}  // namespace
+
+void unsettled_spans(const FroxelView& view, const std::vector<float>& history, JobSystem& jobs,
+                     std::vector<uint64_t>& scratch, std::vector<SliceSpan>& spans) {
+  spans_of(view, history, jobs, scratch, spans);
+}
+
+void unsettled_spans(const FroxelView& view, const std::vector<uint16_t>& history, JobSystem& jobs,
+                     std::vector<uint64_t>& scratch, std::vector<SliceSpan>& spans) {
+  spans_of(view, history, jobs, scratch, spans);
 }
 
 }  // namespace cr

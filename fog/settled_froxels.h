@@ -26,5 +26,8 @@ namespace cr {
 // (kept to avoid reallocating them).
 void unsettled_spans(const FroxelView& view, const std::vector<float>& history, JobSystem& jobs,
                      std::vector<uint64_t>& scratch, std::vector<SliceSpan>& spans);
+// The same for a history of q15 codes (0 and 32767 are its 0 and 1).
+void unsettled_spans(const FroxelView& view, const std::vector<uint16_t>& history, JobSystem& jobs,
+                     std::vector<uint64_t>& scratch, std::vector<SliceSpan>& spans);
 
 }  // namespace cr

@@ -24,6 +24,8 @@ inline int lit_in_word(int lit, int w) {
 // 0 (either sign), out[words, 2 words) those equal to 1. Slices from `lit`
 // on (unlit, or past the grid) are set in both: they do not take part.
 void zero_one_masks(const float* values, int lit, int words, uint64_t* out);
+// The same for q15 codes (sun_term_format.h): 0 and 32767, fully lit air's code.
+void zero_one_masks(const uint16_t* codes, int lit, int words, uint64_t* out);
 
 // Row y of a grid's column masks (2 words per column, as zero_one_masks
 // lays them out; nx columns to a row, ny rows) ANDed with rows y - 1 and

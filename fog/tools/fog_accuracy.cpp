@@ -41,10 +41,9 @@ FogAccuracy measure_fog_accuracy(const FogRun& run, const PluginRegistry& regist
                             {"single", single, 1},
                             {"2x non-temporal", fine, 1}};
 
-  for (const Config& c : configs) {
+  auto measure = [&](const Config& c, std::vector<glm::vec3>& image) {
     FroxelFog fog(c.profile, run.fog_scene);
     FroxelTimes times;
-    std::vector<glm::vec3> image;
     for (int i = 0; i < c.frames; ++i) {
       FrameView v = view;
       v.frame = frame + i;  // a static view: only the jitter sequence advances
@@ -53,8 +52,22 @@ FogAccuracy measure_fog_accuracy(const FogRun& run, const PluginRegistry& regist
       image = froxel_frame(fog, v, base, jobs, &times);
     }
     const FroxelGrid& g = fog.grid();
-    out.rows.push_back(FogAccuracyRow{c.name, g.nx(), g.ny(), g.nz(), times.passes(), times.composite,
-                                      relative_luminance_error(reference, image)});
+    return FogAccuracyRow{c.name, g.nx(), g.ny(), g.nz(), times.passes(), times.composite,
+                          relative_luminance_error(reference, image)};
+  };
+  std::vector<glm::vec3> temporal;
+  for (const Config& c : configs) {
+    std::vector<glm::vec3> image;
+    out.rows.push_back(measure(c, image));
+    if (&c == &configs[0]) temporal = std::move(image);
+  }
+  if (run.fog_profile.precision == FogPrecision::Fixed) {
+    Config in_float = configs[0];
+    in_float.name = "temporal, float";
+    in_float.profile.precision = FogPrecision::Float;
+    std::vector<glm::vec3> image;
+    out.float_temporal = measure(in_float, image);
+    out.fixed_against_float = relative_luminance_error(image, temporal);
   }
   return out;
 }

@@ -1,6 +1,7 @@
 // fog-accuracy: measure_fog_accuracy, printed. Each line: grid, fog pass
 // time, composite time, mean and p95 relative luminance error of the final
-// image; then the reference's time.
+// image; then the reference's time. A fixed-point profile adds the temporal
+// configuration in float and the fixed-point frame's error against it.
 #include <cstdio>
 #include <string>
 
@@ -33,12 +34,17 @@ int fog_accuracy_command(const std::vector<std::string>& args, const PluginRegis
               frame, result.width, result.height, jobs.thread_count(), samples);
   std::printf("%-16s %-12s %10s %12s %10s %10s\n", "config", "froxels", "passes ms", "composite ms", "mean err",
               "p95 err");
-  for (const FogAccuracyRow& r : result.rows) {
+  auto print = [](const FogAccuracyRow& r) {
     const std::string dims = std::to_string(r.nx) + "x" + std::to_string(r.ny) + "x" + std::to_string(r.nz);
     std::printf("%-16s %-12s %10.2f %12.2f %10.4f %10.4f\n", r.config.c_str(), dims.c_str(), r.passes_ms,
                 r.composite_ms, r.error.mean, r.error.p95);
-  }
+  };
+  for (const FogAccuracyRow& r : result.rows) print(r);
+  if (result.float_temporal) print(*result.float_temporal);
   std::printf("%-16s %-12s %10.1f\n", "reference", "per pixel", result.reference_ms);
+  if (result.fixed_against_float)
+    std::printf("fixed point against float (temporal): mean %.5f, p95 %.5f relative luminance error\n",
+                result.fixed_against_float->mean, result.fixed_against_float->p95);
   return 0;
 }
 

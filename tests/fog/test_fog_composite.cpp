@@ -2,12 +2,14 @@
 // for sky, geometry in every slice (boundaries, first and last slice
 // included), pixels at or in front of the near plane and without distance,
 // runs of only sky and of only such pixels, for tile rectangles and for rows
-// wider than one tile.
+// wider than one tile; for the float volume and the fixed-point one (decoded
+// as it is read).
 #include <doctest/doctest.h>
 
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <algorithm>
 #include <limits>
 #include <random>
 #include <vector>
@@ -21,6 +23,7 @@ namespace {
 struct CompositeScene {
   FroxelGrid grid{77, 29, 8, 16, 0.1f, 20.0f, 0.3f};
   std::vector<IntegratedFroxel> volume;
+  std::vector<FixedIntegratedFroxel> fixed_volume;
   std::vector<float> distance;
   std::vector<glm::vec3> color;
 };
@@ -68,12 +71,26 @@ CompositeScene make_scene() {
       s.distance[size_t(y) * w + x] = d;
       s.color[size_t(y) * w + x] = glm::vec3(uniform(0, 5), uniform(0, 5), uniform(0, 5));
     }
+  // Fixed point: radiance codes up to hdr16's top, depth codes that grow
+  // along each column by nothing (clear air), a little or a lot, saturating.
+  s.fixed_volume.resize(s.grid.count());
+  for (size_t c = 0; c < s.grid.columns(); ++c) {
+    uint32_t depth = 0;
+    for (int k = 0; k < s.grid.nz(); ++k) {
+      FixedIntegratedFroxel& f = s.fixed_volume[c * size_t(s.grid.nz()) + size_t(k)];
+      for (uint16_t& code : f.in_scatter) code = uint16_t(rng() % 0x10000);
+      const int kind = int(rng() % 3);
+      depth = std::min<uint32_t>(depth + (kind == 0 ? 0u : kind == 1 ? rng() % 8 : rng() % 8000), 0xFFFF);
+      f.optical_depth = uint16_t(depth);
+    }
+  }
   return s;
 }
 
 // Pixels of [x0, x1) x [y0, y1) become colour * T + L of lookup_fog where
 // beyond the near plane; every other pixel keeps its colour.
-std::vector<glm::vec3> expected(const CompositeScene& s, int x0, int y0, int x1, int y1) {
+template <class Volume>
+std::vector<glm::vec3> expected(const CompositeScene& s, const Volume& volume, int x0, int y0, int x1, int y1) {
   std::vector<glm::vec3> out = s.color;
   const int w = s.grid.width();
   for (int y = y0; y < y1; ++y)
@@ -82,7 +99,7 @@ std::vector<glm::vec3> expected(const CompositeScene& s, int x0, int y0, int x1,
       if (!(s.distance[i] > s.grid.near_distance())) continue;
       glm::vec3 l;
       float t;
-      lookup_fog(s.grid, s.volume, float(x) + 0.5f, float(y) + 0.5f, s.distance[i], l, t);
+      lookup_fog(s.grid, volume, float(x) + 0.5f, float(y) + 0.5f, s.distance[i], l, t);
       out[i] = out[i] * t + l;
     }
   return out;
@@ -94,32 +111,30 @@ int bit_mismatches(const std::vector<glm::vec3>& a, const std::vector<glm::vec3>
   return bad;
 }
 
-}  // namespace
-
-TEST_CASE("composite_fog gives lookup_fog's bits for every pixel, per tile and per whole row") {
-  const CompositeScene s = make_scene();
+template <class Volume>
+void check_composite(const CompositeScene& s, const Volume& volume) {
   const int w = s.grid.width(), h = s.grid.height();
-  const std::vector<glm::vec3> all = expected(s, 0, 0, w, h);
+  const std::vector<glm::vec3> all = expected(s, volume, 0, 0, w, h);
   std::vector<glm::vec3> tiled = s.color;
   for (int y0 = 0; y0 < h; y0 += 16)
     for (int x0 = 0; x0 < w; x0 += 16)
-      composite_fog(s.grid, s.volume, s.distance, tiled, w, x0, y0, std::min(w, x0 + 16), std::min(h, y0 + 16));
+      composite_fog(s.grid, volume, s.distance, tiled, w, x0, y0, std::min(w, x0 + 16), std::min(h, y0 + 16));
   CHECK(bit_mismatches(tiled, all) == 0);
   // Rows wider than one band.
   std::vector<glm::vec3> whole = s.color;
-  composite_fog(s.grid, s.volume, s.distance, whole, w, 0, 0, w, h);
+  composite_fog(s.grid, volume, s.distance, whole, w, 0, 0, w, h);
   CHECK(bit_mismatches(whole, all) == 0);
   // A rectangle that cuts runs at both ends; nothing outside it changes.
   std::vector<glm::vec3> part = s.color;
-  composite_fog(s.grid, s.volume, s.distance, part, w, 5, 3, 70, 20);
-  CHECK(bit_mismatches(part, expected(s, 5, 3, 70, 20)) == 0);
+  composite_fog(s.grid, volume, s.distance, part, w, 5, 3, 70, 20);
+  CHECK(bit_mismatches(part, expected(s, volume, 5, 3, 70, 20)) == 0);
 }
 
-TEST_CASE("edge-pixel fragments at pixel centres get composite_fog's bits; elsewhere their own position's lookup") {
-  const CompositeScene s = make_scene();
+template <class Volume>
+void check_fragments(const CompositeScene& s, const Volume& volume) {
   const int w = s.grid.width(), h = s.grid.height();
   std::vector<glm::vec3> pixels = s.color;
-  composite_fog(s.grid, s.volume, s.distance, pixels, w, 0, 0, w, h);
+  composite_fog(s.grid, volume, s.distance, pixels, w, 0, 0, w, h);
   std::vector<EdgeFragment> fragments;
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
@@ -132,7 +147,7 @@ TEST_CASE("edge-pixel fragments at pixel centres get composite_fog's bits; elsew
       f.color = s.color[i];
       fragments.push_back(f);
     }
-  composite_fog_fragments(s.grid, s.volume, fragments);
+  composite_fog_fragments(s.grid, volume, fragments);
   int bad = 0;
   for (const EdgeFragment& f : fragments) bad += std::memcmp(&f.color, &pixels[f.pixel], sizeof(glm::vec3)) != 0;
   CHECK(bad == 0);
@@ -144,8 +159,22 @@ TEST_CASE("edge-pixel fragments at pixel centres get composite_fog's bits; elsew
   f.color = glm::vec3(1.0f);
   glm::vec3 l;
   float t;
-  lookup_fog(s.grid, s.volume, f.x, f.y, f.distance, l, t);
-  composite_fog_fragments(s.grid, s.volume, std::span(&f, 1));
+  lookup_fog(s.grid, volume, f.x, f.y, f.distance, l, t);
+  composite_fog_fragments(s.grid, volume, std::span(&f, 1));
   CHECK(f.color == glm::vec3(1.0f) * t + l);
   CHECK(t < 1.0f);
+}
+
+}  // namespace
+
+TEST_CASE("composite_fog gives lookup_fog's bits for every pixel, per tile and per whole row, at both precisions") {
+  const CompositeScene s = make_scene();
+  check_composite(s, s.volume);
+  check_composite(s, s.fixed_volume);
+}
+
+TEST_CASE("edge-pixel fragments at pixel centres get composite_fog's bits; elsewhere their own position's lookup") {
+  const CompositeScene s = make_scene();
+  check_fragments(s, s.volume);
+  check_fragments(s, s.fixed_volume);
 }

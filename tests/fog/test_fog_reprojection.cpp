@@ -10,29 +10,38 @@
 // blend reads history only where the clamp range is not one value, with the
 // bits of reading every froxel's history. And the geometry itself: each
 // froxel centre reads the history where the old camera saw it, projected
-// here independently of the pass.
+// here independently of the pass. The clamp, culled-slice and sparse-read
+// tests run on float and on q15 values (sun_term_format.h): the definition
+// is written once over the format's lerp.
 #include <doctest/doctest.h>
 
 #include <cstring>
 #include <random>
+#include <type_traits>
 
 #include "fog/froxel_passes.h"
 #include "fog/history_projection.h"
+#include "fog/sun_term_format.h"
 
 using namespace cr;
 
 namespace {
 
+// Values in format F (float or q15 codes).
+template <class F>
 struct ClampCase {
+  using Format = F;
+  using V = typename F::Value;
   FroxelView view;
-  std::vector<float> current, history;
+  std::vector<V> current, history;
 };
 
-ClampCase random_case(unsigned seed, int slices_count = 24) {
+template <class F>
+ClampCase<F> random_case(unsigned seed, int slices_count = 24) {
   JobSystem jobs(1);
   const FroxelGrid grid(72, 40, 8, slices_count, 0.1f, 48.0f, 0.75f);
   const Camera cam = Camera::look_at({0, 2, 5}, {1, 1, -10}, 1.0f, 72.0f / 40.0f, 0.1f);
-  ClampCase c{make_froxel_view(grid, cam, jobs), {}, {}};
+  ClampCase<F> c{make_froxel_view(grid, cam, jobs), {}, {}};
   std::mt19937 rng(seed);
   std::uniform_int_distribution<int> slices(0, grid.nz());
   // Few distinct values, so ties and zeros of either sign are common.
@@ -40,13 +49,14 @@ ClampCase random_case(unsigned seed, int slices_count = 24) {
   for (auto& n : c.view.lit_slices) n = uint16_t(slices(rng));
   c.current.resize(grid.count());
   c.history.resize(grid.count());
-  for (auto& v : c.current) v = level(rng) < 0 ? -0.0f : float(level(rng)) * 0.125f;
-  for (auto& v : c.history) v = float(level(rng)) * 0.15f;
+  for (auto& v : c.current) v = F::encode(level(rng) < 0 ? -0.0f : float(level(rng)) * 0.125f);
+  for (auto& v : c.history) v = F::encode(float(level(rng)) * 0.15f);
   return c;
 }
 
 // The case's view from a moved camera, with its columns culled at random lengths.
-FroxelView moved_history_view(const ClampCase& c, std::mt19937& rng) {
+template <class Case>
+FroxelView moved_history_view(const Case& c, std::mt19937& rng) {
   FroxelView history_view = c.view;
   history_view.camera = Camera::look_at({0.4, 2.2, 5.6}, {1.5, 1, -10}, 1.0f, 72.0f / 40.0f, 0.1f);
   std::uniform_int_distribution<int> slices(0, c.view.grid.nz());
@@ -57,7 +67,8 @@ FroxelView moved_history_view(const ClampCase& c, std::mt19937& rng) {
 // The clamp's definition: the min and max of the current values in the 3x3
 // columns around (x, y) (clamped at the grid's edges) in slice j, over the
 // neighbours lit there; the froxel itself is lit.
-void range_3x3(const ClampCase& c, const std::vector<float>& values, int x, int y, int j, float& lo, float& hi) {
+template <class Case, class V>
+void range_3x3(const Case& c, const std::vector<V>& values, int x, int y, int j, V& lo, V& hi) {
   const FroxelGrid& g = c.view.grid;
   lo = hi = values[g.index(x, y, j)];
   for (int dy = -1; dy <= 1; ++dy)
@@ -68,70 +79,79 @@ void range_3x3(const ClampCase& c, const std::vector<float>& values, int x, int 
       hi = std::max(hi, values[g.index(xn, yn, j)]);
     }
 }
-void range_3x3(const ClampCase& c, int x, int y, int j, float& lo, float& hi) {
+template <class Case, class V = typename Case::V>
+void range_3x3(const Case& c, int x, int y, int j, V& lo, V& hi) {
   range_3x3(c, c.current, x, y, j, lo, hi);
 }
 
 // The clamped blend of history h at froxel (x, y, j), with the light
 // change's 3x3 maximum scaling the history's share where there is one.
-float clamped_blend(const ClampCase& c, const std::vector<float>* light_change, int x, int y, int j, float h,
-                    float w) {
-  const float cur = c.current[c.view.grid.index(x, y, j)];
-  float lo, hi;
+template <class Case, class F = typename Case::Format, class V = typename Case::V>
+V clamped_blend(const Case& c, const std::vector<V>* light_change, int x, int y, int j, V h, float w) {
+  const V cur = c.current[c.view.grid.index(x, y, j)];
+  V lo, hi;
   range_3x3(c, x, y, j, lo, hi);
-  const float blend = cur + (std::min(std::max(h, lo), hi) - cur) * w;
+  const V blend = F::lerp(cur, std::min(std::max(h, lo), hi), F::weight(w));
   if (!light_change) return blend;
-  float least, most;
+  V least, most;
   range_3x3(c, *light_change, x, y, j, least, most);
-  return cur + (blend - cur) * (1.0f - std::min(most, 1.0f));
+  return F::scale_history_share(cur, blend, most);
 }
 
 // Shaft-like current values: blocks of lit (1) and shadowed (0) air with
 // scattered values between, so most 3x3 ranges are one value, some are not.
-void shaft_values(ClampCase& c, std::mt19937& rng) {
+template <class Case>
+void shaft_values(Case& c, std::mt19937& rng) {
   const FroxelGrid& g = c.view.grid;
   std::uniform_int_distribution<int> coin(0, 59);
   std::uniform_real_distribution<float> unit(0.0f, 1.0f);
   for (int y = 0; y < g.ny(); ++y)
     for (int x = 0; x < g.nx(); ++x)
       for (int k = 0; k < g.nz(); ++k)
-        c.current[g.index(x, y, k)] = coin(rng) == 0 ? unit(rng) : float((x / 6 + y / 5 + k / 7) % 2);
+        c.current[g.index(x, y, k)] =
+            Case::Format::encode(coin(rng) == 0 ? unit(rng) : float((x / 6 + y / 5 + k / 7) % 2));
 }
 
 // reproject_history with the clamp and the profile's default weight, on two threads.
 constexpr float kWeight = 0.857142857f;
-ReprojectStats reproject_clamped(const ClampCase& c, const FroxelView& history_view,
-                                 const std::vector<float>* light_change, std::vector<float>& out) {
+template <class Case, class V = typename Case::V>
+ReprojectStats reproject_clamped(const Case& c, const FroxelView& history_view, const std::vector<V>* light_change,
+                                 std::vector<V>& out) {
   JobSystem jobs(2);
   return reproject_history(c.view, c.current, history_view, c.history, kWeight, true, jobs, out, light_change);
 }
 
 // A light change that is 0 in most froxels and up to 1.5 in the rest.
-std::vector<float> random_light_change(const FroxelGrid& g, std::mt19937& rng) {
+template <class F>
+std::vector<typename F::Value> random_light_change(const FroxelGrid& g, std::mt19937& rng) {
   std::uniform_int_distribution<int> coin(0, 3);
   std::uniform_real_distribution<float> change(0.0f, 1.5f);
-  std::vector<float> out(g.count());
-  for (auto& v : out) v = coin(rng) == 0 ? change(rng) : 0.0f;
+  std::vector<typename F::Value> out(g.count());
+  for (auto& v : out) v = F::encode(coin(rng) == 0 ? change(rng) : 0.0f);
   return out;
 }
 
 // Runs test(c, seed) on the clamp cases: 24 and 70 slices (one and two mask
-// words), seeds 1-4.
+// words), seeds 1-4, float and q15.
 template <class Test>
 void for_each_clamp_case(Test&& test) {
   for (int slices_count : {24, 70})
     for (unsigned seed = 1; seed <= 4; ++seed) {
       CAPTURE(slices_count);
       CAPTURE(seed);
-      ClampCase c = random_case(seed, slices_count);
-      test(c, seed);
+      ClampCase<FloatSunTerm> in_float = random_case<FloatSunTerm>(seed, slices_count);
+      test(in_float, seed);
+      ClampCase<Q15SunTerm> in_q15 = random_case<Q15SunTerm>(seed, slices_count);
+      test(in_q15, seed);
     }
 }
 
 }  // namespace
 
 TEST_CASE("the reprojection clamp matches the per-froxel 3x3 definition bit for bit") {
-  for_each_clamp_case([](ClampCase& c, unsigned seed) {
+  for_each_clamp_case([](auto& c, unsigned seed) {
+    using F = typename std::remove_reference_t<decltype(c)>::Format;
+    using V = typename F::Value;
     const FroxelGrid& g = c.view.grid;
     // Same camera: the history is read in place where it is lit, so the
     // value before the clamp is known exactly.
@@ -141,14 +161,14 @@ TEST_CASE("the reprojection clamp matches the per-froxel 3x3 definition bit for 
     for (auto& n : history_view.lit_slices) n = uint16_t(slices(rng));
     // Odd seeds: few distinct values (ties, zeros of either sign); even
     // seeds: shafts of 0 and 1, which the masks pass over, and a light change.
-    std::vector<float> light_change;
+    std::vector<V> light_change;
     if (seed % 2 == 0) {
       shaft_values(c, rng);
-      light_change = random_light_change(g, rng);
+      light_change = random_light_change<F>(g, rng);
     }
-    const std::vector<float>* change = light_change.empty() ? nullptr : &light_change;
+    const std::vector<V>* change = light_change.empty() ? nullptr : &light_change;
     const float w = kWeight;
-    std::vector<float> out;
+    std::vector<V> out;
     const ReprojectStats stats = reproject_clamped(c, history_view, change, out);
     REQUIRE(stats.identity);
     size_t mismatches = 0, rejected = 0, lit = 0;
@@ -156,10 +176,10 @@ TEST_CASE("the reprojection clamp matches the per-froxel 3x3 definition bit for 
       for (int x = 0; x < g.nx(); ++x) {
         const size_t col = size_t(y) * g.nx() + x;
         for (int j = 0; j < c.view.lit_slices[col]; ++j) {
-          const float cur = c.current[g.index(x, y, j)];
+          const V cur = c.current[g.index(x, y, j)];
           const bool has = j < history_view.lit_slices[col];
-          const float expected = clamped_blend(c, change, x, y, j, has ? c.history[g.index(x, y, j)] : cur, w);
-          mismatches += std::memcmp(&expected, &out[g.index(x, y, j)], sizeof(float)) != 0;
+          const V expected = clamped_blend(c, change, x, y, j, has ? c.history[g.index(x, y, j)] : cur, w);
+          mismatches += std::memcmp(&expected, &out[g.index(x, y, j)], sizeof(V)) != 0;
           rejected += !has;
         }
         lit += c.view.lit_slices[col];
@@ -172,39 +192,50 @@ TEST_CASE("the reprojection clamp matches the per-froxel 3x3 definition bit for 
   });
 }
 
+// Lit history in [0, 1/2] (q15: up to code 16384), culled slices far
+// outside (1000, or q15's top code): with no current light, full weight and
+// no clamp the output is the history read itself.
+template <class F>
+void check_culled_slices_unread(unsigned seed) {
+  using V = typename F::Value;
+  ClampCase<F> c = random_case<F>(seed);
+  const FroxelGrid& g = c.view.grid;
+  std::mt19937 rng(seed + 200);
+  const FroxelView history_view = moved_history_view(c, rng);
+  std::uniform_real_distribution<float> unit(0.0f, 0.5f);
+  const V culled = std::is_same_v<V, float> ? V(1000) : F::kOne;
+  for (int y = 0; y < g.ny(); ++y)
+    for (int x = 0; x < g.nx(); ++x)
+      for (int j = 0; j < g.nz(); ++j)
+        c.history[g.index(x, y, j)] =
+            j < history_view.lit_slices[size_t(y) * g.nx() + x] ? F::encode(unit(rng)) : culled;
+  std::fill(c.current.begin(), c.current.end(), V(0));
+  JobSystem jobs(2);
+  std::vector<V> out;
+  const ReprojectStats stats = reproject_history(c.view, c.current, history_view, c.history, 1.0f, false, jobs, out);
+  REQUIRE_FALSE(stats.identity);
+  size_t read = 0, beyond = 0;
+  for (size_t col = 0; col < g.columns(); ++col)
+    for (int j = 0; j < c.view.lit_slices[col]; ++j) {
+      const V h = out[col * g.nz() + size_t(j)];
+      read += h > V(0);
+      beyond += h > F::encode(0.5f);
+    }
+  CHECK(read > 0);
+  CHECK(beyond == 0);
+}
+
 TEST_CASE("a moving camera's history reads never touch a slice the history culled") {
   for (unsigned seed = 1; seed <= 4; ++seed) {
-    ClampCase c = random_case(seed);
-    const FroxelGrid& g = c.view.grid;
-    std::mt19937 rng(seed + 200);
-    const FroxelView history_view = moved_history_view(c, rng);
-    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
-    // Lit history in [0, 1], culled slices far outside: with no current
-    // light, full weight and no clamp the output is the history read itself.
-    for (int y = 0; y < g.ny(); ++y)
-      for (int x = 0; x < g.nx(); ++x)
-        for (int j = 0; j < g.nz(); ++j)
-          c.history[g.index(x, y, j)] = j < history_view.lit_slices[size_t(y) * g.nx() + x] ? unit(rng) : 1000.0f;
-    std::fill(c.current.begin(), c.current.end(), 0.0f);
-    JobSystem jobs(2);
-    std::vector<float> out;
-    const ReprojectStats stats = reproject_history(c.view, c.current, history_view, c.history, 1.0f, false, jobs, out);
-    REQUIRE_FALSE(stats.identity);
-    size_t read = 0, beyond = 0;
-    for (size_t col = 0; col < g.columns(); ++col)
-      for (int j = 0; j < c.view.lit_slices[col]; ++j) {
-        const float h = out[col * g.nz() + size_t(j)];
-        read += h > 0.0f;
-        beyond += h > 1.0f;
-      }
-    CHECK(read > 0);
-    CHECK(beyond == 0);
+    CAPTURE(seed);
+    check_culled_slices_unread<FloatSunTerm>(seed);
+    check_culled_slices_unread<Q15SunTerm>(seed);
   }
 }
 
 TEST_CASE("the moving-camera history read gives its one-slice definition's bits") {
   for (unsigned seed = 1; seed <= 4; ++seed) {
-    ClampCase c = random_case(seed);
+    ClampCase<FloatSunTerm> c = random_case<FloatSunTerm>(seed);
     const FroxelGrid& g = c.view.grid;
     std::mt19937 rng(seed + 300);
     std::uniform_real_distribution<float> unit(0.0f, 1.0f);
@@ -212,8 +243,8 @@ TEST_CASE("the moving-camera history read gives its one-slice definition's bits"
     // Most history columns whole, the rest culled at random lengths.
     for (auto& lit : c.view.lit_slices)
       if (coin(rng) != 0) lit = uint16_t(g.nz());
-    const HistoryProjection projection(c.view, c.history);
-    HistoryProjection::Scratch scratch(g.nz());
+    const HistoryProjection<FloatSunTerm> projection(c.view, c.history);
+    HistoryProjection<FloatSunTerm>::Scratch scratch(g.nz());
     std::vector<float> cur(size_t(g.nz())), fast(size_t(g.nz())), definition(size_t(g.nz()));
     size_t last_slice = 0, compared = 0;
     for (int column = 0; column < 400; ++column) {
@@ -241,29 +272,32 @@ TEST_CASE("the moving-camera history read gives its one-slice definition's bits"
 }
 
 TEST_CASE("a moving camera's clamped reprojection reads history only where the 3x3 range is not one value") {
-  for_each_clamp_case([](ClampCase& c, unsigned seed) {
+  for_each_clamp_case([](auto& c, unsigned seed) {
+    using F = typename std::remove_reference_t<decltype(c)>::Format;
+    using V = typename F::Value;
     const FroxelGrid& g = c.view.grid;
     std::mt19937 rng(seed + 400);
     const FroxelView history_view = moved_history_view(c, rng);
     std::uniform_real_distribution<float> unit(0.0f, 1.0f);
-    for (auto& v : c.history) v = unit(rng);
+    for (auto& v : c.history) v = F::encode(unit(rng));
     shaft_values(c, rng);
     // Even seeds: the sun moved too.
-    const std::vector<float> light_change = seed % 2 == 0 ? random_light_change(g, rng) : std::vector<float>{};
-    const std::vector<float>* change = light_change.empty() ? nullptr : &light_change;
+    const std::vector<V> light_change = seed % 2 == 0 ? random_light_change<F>(g, rng) : std::vector<V>{};
+    const std::vector<V>* change = light_change.empty() ? nullptr : &light_change;
     const float w = kWeight;
-    std::vector<float> out;
+    std::vector<V> out;
     const ReprojectStats stats = reproject_clamped(c, history_view, change, out);
     REQUIRE_FALSE(stats.identity);
     // The definition: every lit froxel's history projected and read, clamped
     // to its 3x3 range, blended.
-    const HistoryProjection projection(history_view, c.history);
-    HistoryProjection::Scratch scratch(g.nz());
+    const HistoryProjection<F> projection(history_view, c.history);
+    typename HistoryProjection<F>::Scratch scratch(g.nz());
     const Camera& hc = history_view.camera;
     const glm::vec3 offset_world(c.view.camera.position - hc.position);
     const glm::vec3 offset(glm::dot(offset_world, hc.right), glm::dot(offset_world, hc.up),
                            glm::dot(offset_world, hc.forward));
-    std::vector<float> centers(size_t(g.nz())), h(size_t(g.nz()));
+    std::vector<float> centers(size_t(g.nz()));
+    std::vector<V> h(size_t(g.nz()));
     for (int k = 0; k < g.nz(); ++k) centers[size_t(k)] = g.center(k);
     size_t lit = 0, mismatches = 0, rejected = 0;
     for (int y = 0; y < g.ny(); ++y)
@@ -274,16 +308,16 @@ TEST_CASE("a moving camera's clamped reprojection reads history only where the 3
         const glm::vec3 dv(glm::dot(d, hc.right), glm::dot(d, hc.up), glm::dot(d, hc.forward));
         projection.project(offset, dv, centers.data(), n, scratch.fx.data(), scratch.fy.data(), scratch.fz.data(),
                            scratch.inside.data());
-        const float* cur = c.current.data() + g.index(x, y, 0);
+        const V* cur = c.current.data() + g.index(x, y, 0);
         for (int j = 0; j < n; ++j) {
           const size_t no_history = projection.read_slices(scratch, cur, j, j + 1, h.data());
-          float lo, hi;
+          V lo, hi;
           range_3x3(c, x, y, j, lo, hi);
           // Where the range is one value the history is not needed: its
           // rejection is not counted.
           if (lo != hi) rejected += no_history;
-          const float expected = clamped_blend(c, change, x, y, j, h[size_t(j)], w);
-          mismatches += std::memcmp(&expected, &out[g.index(x, y, j)], sizeof(float)) != 0;
+          const V expected = clamped_blend(c, change, x, y, j, h[size_t(j)], w);
+          mismatches += std::memcmp(&expected, &out[g.index(x, y, j)], sizeof(V)) != 0;
         }
         lit += size_t(n);
       }

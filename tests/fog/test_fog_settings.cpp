@@ -39,6 +39,9 @@ TEST_CASE("profile fog section: defaults and values") {
   CHECK(s.slices == 32);
   CHECK(s.fog_distance == 100.0f);
   CHECK_FALSE(s.reprojection);
+  CHECK(d.precision == FogPrecision::Float);
+  CHECK(parse_fog_profile(json{{"precision", "fixed"}}, "p.json").precision == FogPrecision::Fixed);
+  CHECK(parse_fog_profile(json{{"precision", "float"}}, "p.json").precision == FogPrecision::Float);
 }
 
 TEST_CASE("profile fog section: bad input names file and field") {
@@ -51,6 +54,12 @@ TEST_CASE("profile fog section: bad input names file and field") {
   CHECK(error_of([] { parse_fog_profile(json{{"filter", "yes"}}, "p.json"); }).find("'fog.filter'") !=
         std::string::npos);
   CHECK(error_of([] { parse_fog_profile(json::array(), "p.json"); }).find("p.json") == 0);
+  const std::string precision = error_of([] { parse_fog_profile(json{{"precision", "half"}}, "p.json"); });
+  CHECK(precision.find("p.json") == 0);
+  CHECK(precision.find("'fog.precision'") != std::string::npos);
+  CHECK(precision.find("\"half\"") != std::string::npos);
+  CHECK(error_of([] { parse_fog_profile(json{{"precision", 16}}, "p.json"); }).find("'fog.precision'") !=
+        std::string::npos);
 }
 
 TEST_CASE("scene fog section: height fog, volumes, phase") {
