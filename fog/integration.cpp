@@ -33,7 +33,6 @@
 
 #include "fog/fixed_volume.h"
 #include "fog/froxel_passes.h"
-#include "fog/hdr16_branch_free.h"
 #include "fog/homogeneous_medium.h"
 #include "fog/phase_function.h"
 #include "fog/sun_term_format.h"
@@ -263,9 +262,9 @@ struct FixedColumn {
     // The records: radiance in hdr16, the depth in Q5.11.
     for (int k = 0; k < n; ++k) {
       FixedIntegratedFroxel& f = out[k];
-      f.in_scatter[0] = encode_hdr16_branch_free(float(lr[k]) * scale[0]);
-      f.in_scatter[1] = encode_hdr16_branch_free(float(lg[k]) * scale[1]);
-      f.in_scatter[2] = encode_hdr16_branch_free(float(lb[k]) * scale[2]);
+      f.in_scatter[0] = fx::encode_hdr16(float(lr[k]) * scale[0]);
+      f.in_scatter[1] = fx::encode_hdr16(float(lg[k]) * scale[1]);
+      f.in_scatter[2] = fx::encode_hdr16(float(lb[k]) * scale[2]);
       f.optical_depth = uint16_t(std::min<uint32_t>((d[k] + (1u << (kOpticalDepthShift - 1))) >> kOpticalDepthShift,
                                                     0xFFFF));
     }

@@ -13,7 +13,6 @@
 #include <nlohmann/json.hpp>
 
 #include "engine/output/percentile.h"
-#include "fog/hdr16_branch_free.h"
 #include "fog/sun_term_format.h"
 #include "fog_test_scene.h"
 
@@ -183,24 +182,3 @@ TEST_CASE("q15 sun-term arithmetic at fully lit air's code stays within 0..32767
   CHECK(out == lit);
 }
 
-TEST_CASE("the branch-free hdr16 encode equals encode_hdr16 for every kind of float") {
-  size_t differences = 0;
-  auto check = [&](uint32_t bits) {
-    const float x = std::bit_cast<float>(bits);
-    differences += encode_hdr16_branch_free(x) != fx::encode_hdr16(x);
-  };
-  // A stride through all 2^32 bit patterns (signs, NaNs, infinities, float
-  // denormals), and every rounding boundary's neighbourhood in and around
-  // hdr16's range: the 8 patterns around each multiple of half a code's
-  // step (2^12 of the float's mantissa for normal codes, more for denormal
-  // ones), up to float exponents past the top code.
-  for (uint64_t bits = 0; bits <= 0xFFFFFFFFu; bits += 4093) check(uint32_t(bits));
-  for (uint32_t e = 80; e <= 165; ++e) {
-    const uint32_t half_step = 1u << (std::min<uint32_t>(e >= 97 ? 13 : 110 - e, 24) - 1);
-    for (uint32_t m = 0; m < (1u << 23); m += half_step)
-      for (uint32_t d = 0; d < 8; ++d) check(((e << 23) | m) + d - 4);
-  }
-  for (uint32_t special : {0x00000000u, 0x80000000u, 0x7F800000u, 0xFF800000u, 0x7FC00000u, 0x7F7FFFFFu})
-    check(special);
-  CHECK(differences == 0);
-}
