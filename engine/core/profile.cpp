@@ -61,7 +61,7 @@ Profile parse_profile(const nlohmann::json& doc, const std::string& path,
       }
     } else if (key == "precision") {
       const JsonObject precision = root.object("precision");
-      precision.allow_only({"resolve", "depth"});
+      precision.allow_only({"resolve", "depth", "attributes"});
       if (precision.has("resolve")) {
         const std::string s = precision.string("resolve");
         if (s != "float" && s != "fixed")
@@ -74,6 +74,12 @@ Profile parse_profile(const nlohmann::json& doc, const std::string& path,
         else if (s == "unorm24") p.depth_format = DepthFormat::Unorm24;
         else if (s == "float24") p.depth_format = DepthFormat::Float24;
         else precision.fail("depth", "must be \"float32\", \"unorm24\" or \"float24\", found \"" + s + "\"");
+      }
+      if (precision.has("attributes")) {
+        const std::string s = precision.string("attributes");
+        if (s != "float32" && s != "float16")
+          precision.fail("attributes", "must be \"float32\" or \"float16\", found \"" + s + "\"");
+        p.half_attributes = s == "float16";
       }
     } else if (std::find(plugin_sections.begin(), plugin_sections.end(), key) != plugin_sections.end()) {
       p.plugins[key] = doc.at(key);  // validated by the plugin that owns the section

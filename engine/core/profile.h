@@ -39,6 +39,10 @@ struct Profile {
   // "precision": {"depth": "float32" | "unorm24" | "float24"}: the visibility
   // buffer's depth format (depth_format.h).
   DepthFormat depth_format = DepthFormat::Float32;
+  // "precision": {"attributes": "float32" | "float16"}: the shade pass's
+  // interpolated normal, tangent, UVs and colour rounded to fp16 (mediump
+  // varyings); positions and UV derivatives stay float.
+  bool half_attributes = false;
   nlohmann::json plugins = nlohmann::json::object();  // raw plugin sections by name
 };
 

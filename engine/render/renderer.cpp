@@ -15,7 +15,7 @@ Renderer::Renderer(const Scene& scene, const SceneDescription& description, cons
                    std::vector<std::unique_ptr<Plugin>> plugins, JobSystem& jobs)
     : scene_(scene), description_(description), profile_(profile), jobs_(jobs),
       visibility_(std::make_unique<Visibility>()), shadow_state_(std::make_unique<ShadowPassState>()),
-      surfaces_(std::make_unique<SurfaceLookup>(scene)) {
+      surfaces_(std::make_unique<SurfaceLookup>(scene, profile.half_attributes)) {
   if (description.camera.gltf_camera && *description.camera.gltf_camera >= int(scene.cameras.size()))
     throw InputError(description.path, "camera.gltf_camera is " + std::to_string(*description.camera.gltf_camera) +
                                            " but '" + scene.source + "' has " + std::to_string(scene.cameras.size()) +

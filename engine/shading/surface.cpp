@@ -1,3 +1,4 @@
+#include "engine/core/half_rounding.h"
 #include "engine/shading/surface.h"
 
 #include <cmath>
@@ -37,7 +38,7 @@ glm::vec3 orthogonal_tangent(const glm::vec3& n) {
 }
 
 TriangleSurface::TriangleSurface(const Primitive& primitive, const Draw& draw, uint32_t triangle_index,
-                                 bool front_facing, bool with_tangent, bool with_uv1)
+                                 bool front_facing, bool with_tangent, bool with_uv1, bool half_attributes)
     : has_normals_(!primitive.normals.empty()),
       has_tangents_(!primitive.tangents.empty()),
       has_uv_(!primitive.texcoords.empty()),
@@ -45,7 +46,8 @@ TriangleSurface::TriangleSurface(const Primitive& primitive, const Draw& draw, u
       has_color_(!primitive.colors.empty()),
       with_tangent_(with_tangent),
       with_uv1_(with_uv1),
-      front_facing_(front_facing) {
+      front_facing_(front_facing),
+      half_attributes_(half_attributes) {
   const size_t base = size_t(triangle_index) * 3;
   const uint32_t idx[3] = {primitive.indices[base], primitive.indices[base + 1], primitive.indices[base + 2]};
   const glm::mat3 world3(draw.world);
@@ -71,19 +73,31 @@ SurfaceSample TriangleSurface::at(const Barycentrics& bary) const {
   const glm::vec3& w = bary.b;
   SurfaceSample s;
   s.front_facing = front_facing_;
+  // fp16 varyings (half_attributes_): each interpolated value rounded, as add_points does.
+  auto varying = [this](auto v) {
+    if (half_attributes_)
+      for (int c = 0; c < v.length(); ++c) v[c] = round_to_half(v[c]);
+    return v;
+  };
   s.position = interpolate(position_, w);
-  s.normal = has_normals_ ? normalize_or(interpolate(normal_, w), geometric_normal_) : geometric_normal_;
+  s.normal = has_normals_ ? normalize_or(varying(interpolate(normal_, w)), geometric_normal_) : geometric_normal_;
 
   if (with_tangent_) {
-    const glm::vec3 tangent = has_tangents_ ? interpolate(tangent_, w) : glm::vec3(0.0f);
+    const glm::vec3 tangent = has_tangents_ ? varying(interpolate(tangent_, w)) : glm::vec3(0.0f);
     // Gram-Schmidt against the interpolated normal.
     s.tangent = glm::vec4(normalize_or_else(tangent - s.normal * glm::dot(s.normal, tangent),
                                             [&s] { return orthogonal_tangent(s.normal); }),
                           bitangent_sign_);
   }
-  if (has_uv_) interpolate_uv(uv_, bary, s.uv, s.duv_dx, s.duv_dy);
-  if (has_uv1_) interpolate_uv(uv1_, bary, s.uv1, s.duv1_dx, s.duv1_dy);
-  if (has_color_) s.color = interpolate(color_, w);
+  if (has_uv_) {
+    interpolate_uv(uv_, bary, s.uv, s.duv_dx, s.duv_dy);
+    s.uv = varying(s.uv);
+  }
+  if (has_uv1_) {
+    interpolate_uv(uv1_, bary, s.uv1, s.duv1_dx, s.duv1_dy);
+    s.uv1 = varying(s.uv1);
+  }
+  if (has_color_) s.color = varying(interpolate(color_, w));
 
   if (!front_facing_) {
     // Flip the whole frame (N, T and B = cross(N, T) * w) so a normal map

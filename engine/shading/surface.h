@@ -42,8 +42,12 @@ struct SurfaceSample {
 // primitive has none) for materials whose textures read it.
 class TriangleSurface {
  public:
+  // half_attributes: the interpolated normal, tangent, UVs and colour are
+  // rounded to fp16 (round_to_half), as a phone's mediump varyings are; the
+  // position and the UV derivatives stay float (profile "precision":
+  // {"attributes": "float16"}).
   TriangleSurface(const Primitive& primitive, const Draw& draw, uint32_t triangle_index, bool front_facing,
-                  bool with_tangent = true, bool with_uv1 = false);
+                  bool with_tangent = true, bool with_uv1 = false, bool half_attributes = false);
   // The surface at barycentrics `bary`; UV derivatives from its derivatives.
   SurfaceSample at(const Barycentrics& bary) const;
   // Appends the surfaces at the centres of pixels x0 .. x0 + count - 1 of
@@ -65,7 +69,8 @@ class TriangleSurface {
   glm::vec2 uv1_[3];  // set only with_uv1
   glm::vec4 color_[3];
   float bitangent_sign_ = 1.0f;
-  bool has_normals_, has_tangents_, has_uv_, has_uv1_, has_color_, with_tangent_, with_uv1_, front_facing_;
+  bool has_normals_, has_tangents_, has_uv_, has_uv1_, has_color_, with_tangent_, with_uv1_, front_facing_,
+      half_attributes_;
 };
 
 // TriangleSurface(primitive, draw, triangle_index, front_facing, with_tangent, with_uv1).at(bary).

@@ -1,3 +1,4 @@
+#include "engine/core/half_rounding.h"
 #include "engine/shading/surface_batch.h"
 
 #include <cmath>
@@ -146,6 +147,14 @@ void TriangleSurface::add_points(SurfaceBatch& batch, const TriangleInterp& inte
   attribute(w, 1, color_, has_color_, 1.0f, batch.cg);
   attribute(w, 2, color_, has_color_, 1.0f, batch.cb);
   attribute(w, 3, color_, has_color_, 1.0f, batch.ca);
+  if (half_attributes_) {  // fp16 varyings, as at() rounds them (absent streams' defaults are halves already)
+    for (float* a : {batch.nx, batch.ny, batch.nz, batch.tx, batch.ty, batch.tz, batch.u, batch.v, batch.cr, batch.cg,
+                     batch.cb, batch.ca})
+      for (int k = i; k < i + count; ++k) a[k] = round_to_half(a[k]);
+    if (with_uv1_)
+      for (float* a : {batch.u1, batch.v1})
+        for (int k = i; k < i + count; ++k) a[k] = round_to_half(a[k]);
+  }
   const float tw = with_tangent_ ? bitangent_sign_ : 1.0f;
   const float facing = front_facing_ ? 1.0f : -1.0f;
   const glm::vec3 f = geometric_normal_;

@@ -121,6 +121,8 @@ TEST_CASE("profile: precision names the resolve's kernel and the depth format, a
   CHECK(cr::parse_profile({{"precision", {{"depth", "float24"}}}}, "inline.json", kPlugins).depth_format ==
         cr::DepthFormat::Float24);
   CHECK(parse_error({{"precision", {{"depth", "unorm16"}}}}).find("precision.depth") != std::string::npos);
+  CHECK(cr::parse_profile({{"precision", {{"attributes", "float16"}}}}, "inline.json", kPlugins).half_attributes);
+  CHECK(parse_error({{"precision", {{"attributes", "half"}}}}).find("precision.attributes") != std::string::npos);
   CHECK(parse_error({{"precision", {{"stencil", "x"}}}}).find("stencil") != std::string::npos);
   CHECK(parse_error({{"precision", "fixed"}}).find("precision") != std::string::npos);
 }

@@ -6,6 +6,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "engine/core/half_rounding.h"
 #include "engine/raster/triangle_interp.h"
 #include "engine/scene/image_mips.h"
 #include "engine/shading/material_batch.h"
@@ -125,8 +126,9 @@ TEST_CASE("surface batch: spans added and finished hold at()'s floats bit for bi
       int added = 0;
       for (int s = 0; added < SurfaceBatch::kCapacity; ++s) {
         const bool front = s % 2 == 0, with_tangent = s % 3 != 1, with_uv1 = s % 5 < 3;
+        const bool half = (s + streams) % 3 == 0;  // the mobile profile's fp16 varyings, in the same batch
         const int count = std::min(1 + 7 * (s % 4), SurfaceBatch::kCapacity - added);
-        spans.push_back({TriangleSurface(p, d, uint32_t(s % 4), front, with_tangent, with_uv1), random_planes(rng),
+        spans.push_back({TriangleSurface(p, d, uint32_t(s % 4), front, with_tangent, with_uv1, half), random_planes(rng),
                          290 + 3 * s, count, 190 + s, with_tangent, with_uv1});
         const Span& span = spans.back();
         span.surface.add_span(batch, span.planes, span.x0, span.count, span.y);
@@ -303,5 +305,25 @@ TEST_CASE("shading batch: sun, shadow, point and spot lights and unlit points gi
     for (int c = 0; c < 3; ++c) CHECK(same_bits(batch.radiance(k)[c], expected[c]));
     // Unlit points: base colour * the emissive luminance, nothing else.
     if (points.of[k]->unlit) CHECK(same_bits(batch.out_r[k], batch.base_r[k] * in.emissive_luminance));
+  }
+}
+
+TEST_CASE("surface: fp16 varyings round the interpolated UVs, normal and colour to halves, within half a half-ulp") {
+  Lcg rng;
+  const Primitive p = random_primitive(rng, true, true, true, true, false);
+  const Draw d = random_draw(rng, false);
+  const TriangleSurface full(p, d, 0, true, true, false, false), half(p, d, 0, true, true, false, true);
+  for (int k = 0; k < 50; ++k) {
+    const Barycentrics bary = interpolate(random_planes(rng), 300.5f + float(k), 200.5f);
+    const SurfaceSample a = full.at(bary), b = half.at(bary);
+    for (int c = 0; c < 2; ++c) {
+      CHECK(round_to_half(b.uv[c]) == b.uv[c]);
+      // Half of fp16's spacing at |uv|: 2^(floor(log2|uv|) - 11), at least half the smallest denormal.
+      const float spacing = std::max(std::exp2(std::floor(std::log2(std::abs(a.uv[c]))) - 10.0f), 0x1p-24f);
+      CHECK(std::abs(a.uv[c] - b.uv[c]) <= 0.5f * spacing);
+    }
+    for (int c = 0; c < 4; ++c) CHECK(round_to_half(b.color[c]) == b.color[c]);
+    CHECK(b.position == a.position);  // positions stay float
+    CHECK(b.duv_dx == a.duv_dx);      // and so do the UV derivatives
   }
 }

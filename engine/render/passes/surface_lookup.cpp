@@ -7,10 +7,11 @@
 
 namespace cr {
 
-SurfaceLookup::SurfaceLookup(const Scene& scene)
+SurfaceLookup::SurfaceLookup(const Scene& scene, bool half_attributes)
     : scene_(scene),
       any_uv1_(std::any_of(scene.materials.begin(), scene.materials.end(),
-                           [](const Material& m) { return needs_uv1(m); })) {}
+                           [](const Material& m) { return needs_uv1(m); })),
+      half_attributes_(half_attributes) {}
 
 TriangleSurface SurfaceLookup::triangle(const TiledRasterizer& raster, uint32_t id, const Material*& material) const {
   const TriangleRef r = raster.ref(id);
@@ -18,7 +19,7 @@ TriangleSurface SurfaceLookup::triangle(const TiledRasterizer& raster, uint32_t 
   const Primitive& prim = scene_.primitive(d);
   material = &material_of(scene_, prim);
   return TriangleSurface(prim, d, r.triangle_index, r.front_facing, needs_tangent(*material),
-                         any_uv1_ && needs_uv1(*material));
+                         any_uv1_ && needs_uv1(*material), half_attributes_);
 }
 
 void SurfaceLookup::prefetch_plane(const TiledRasterizer& raster, uint32_t id) const {

@@ -12,7 +12,8 @@ namespace cr {
 
 class SurfaceLookup {
  public:
-  explicit SurfaceLookup(const Scene& scene);
+  // half_attributes: TriangleSurface's fp16 varyings (profile precision.attributes "float16").
+  SurfaceLookup(const Scene& scene, bool half_attributes);
   // The triangle `id` names, in world space, and its material.
   TriangleSurface triangle(const TiledRasterizer& raster, uint32_t id, const Material*& material) const;
   // Hints that triangle() will read these soon, in the order it needs them:
@@ -25,6 +26,7 @@ class SurfaceLookup {
  private:
   const Scene& scene_;
   bool any_uv1_;  // TEXCOORD_1 is interpolated for materials reading it; most scenes have none
+  bool half_attributes_;
 };
 
 // The shader of the frame's camera under `light` and `shadow`.
