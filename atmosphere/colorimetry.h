@@ -1,0 +1,25 @@
+#pragma once
+// From spectra to colour: the CIE 1931 2-degree observer over bin-averaged
+// spectra (spectral_tables.h), photometric luminance, and linear sRGB (the
+// IEC 61966-2-1 primaries and D65 white) derived from its chromaticities
+// rather than typed in.
+#include <span>
+
+#include <glm/glm.hpp>
+
+#include "atmosphere/spectral_tables.h"
+
+namespace cr {
+
+inline constexpr double kLuminousEfficacy = 683.0;  // lm/W at 555 nm: photometric Y = 683 * CIE Y
+
+// CIE XYZ of a spectrum given as 10-nm bin means (each bin starting at its
+// wavelength): per bin its value times the colour-matching functions
+// integrated over the bin (trapezoids on the 5-nm samples; 0 past 830 nm).
+glm::dvec3 spectrum_to_xyz(std::span<const SpectralSample> bins);
+
+// The 3x3 matrix from CIE XYZ to linear sRGB, built from the sRGB primaries'
+// and D65's chromaticities (so that Y of each primary sums to 1 at white).
+glm::dmat3 xyz_to_linear_srgb_matrix();
+
+}  // namespace cr
