@@ -3,8 +3,9 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "atmosphere/config_fields.h"
 #include "atmosphere/atmosphere_density.h"
+#include "atmosphere/config_fields.h"
+#include "atmosphere/reference_atmosphere.h"
 #include "engine/core/error.h"
 #include "engine/core/math_constants.h"
 
@@ -16,7 +17,7 @@ MediumSample sample_medium(const AtmosphereModel& m, float altitude) {
 
 namespace {
 const char* const kPresetNames[] = {"earth-clear", "earth-hazy", "earth-thin", "earth-dense", "mars-like",
-                                    nullptr};
+                                    "reference", nullptr};
 }
 
 const char* const* atmosphere_preset_names() { return kPresetNames; }
@@ -56,6 +57,7 @@ AtmosphereModel atmosphere_preset(const std::string& name) {
     m.sun_angular_radius = 0.004675f / 1.524f;  // Mars is 1.524 AU from the sun
     return m;
   }
+  if (name == "reference") return reference_atmosphere();
   throw std::out_of_range(name);
 }
 

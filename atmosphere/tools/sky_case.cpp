@@ -19,7 +19,7 @@ const char* const kCommandLine = "command line";
 }  // namespace
 
 void add_sky_setup_options(ArgParser& p) {
-  p.option("preset", "NAME", "atmosphere preset (earth-clear, earth-hazy, earth-thin, earth-dense, mars-like)",
+  p.option("preset", "NAME", "atmosphere preset (earth-clear, earth-hazy, earth-thin, earth-dense, mars-like, reference)",
            "earth-clear")
       .option("scene", "FILE", "a scene file whose \"atmosphere\" section is measured (instead of --preset)")
       .option("profile", "FILE", "a profile file whose \"atmosphere\" section sets the LUTs (default: built-in)")

@@ -4,7 +4,9 @@
 #include <cmath>
 #include <vector>
 
+#include "atmosphere/atmosphere_model.h"
 #include "atmosphere/colorimetry.h"
+#include "atmosphere/reference_atmosphere.h"
 #include "engine/core/luminance.h"
 
 using namespace cr;
@@ -51,4 +53,24 @@ TEST_CASE("colorimetry: the top-of-atmosphere sun is 128-133 klx, and its sRGB l
   CHECK(lux < 135000.0);
   const glm::dvec3 rgb = xyz_to_linear_srgb_matrix() * xyz;
   CHECK(luminance(rgb) == doctest::Approx(xyz.y).epsilon(1e-3));
+}
+
+TEST_CASE("reference atmosphere preset: the literature's constants, ozone from the measured cross-sections") {
+  const AtmosphereModel m = atmosphere_preset("reference");
+  CHECK(m.bottom_radius == 6360e3);
+  CHECK(m.top_radius == 6420e3);
+  CHECK(m.ground_albedo == glm::vec3(0.1f));
+  // Rayleigh 1.24062e-6 (lambda / 1 um)^-4 at 680, 550, 440 nm: the Earth defaults' (5.802, 13.558, 33.1)e-6.
+  CHECK(m.rayleigh_scattering.x == doctest::Approx(5.802e-6).epsilon(1e-3));
+  CHECK(m.rayleigh_scattering.y == doctest::Approx(13.558e-6).epsilon(1e-3));
+  CHECK(m.rayleigh_scattering.z == doctest::Approx(33.1e-6).epsilon(1e-3));
+  // Mie extinction 4.44e-6 with single-scattering albedo 0.9.
+  CHECK(m.mie_scattering.y + m.mie_absorption.y == doctest::Approx(4.44e-6).epsilon(1e-6));
+  CHECK(m.mie_scattering.y / (m.mie_scattering.y + m.mie_absorption.y) == doctest::Approx(0.9).epsilon(1e-6));
+  // 300 DU in a 10-40 km tent: the column is 300 x 2.687e20 molecules / m^2.
+  CHECK(ozone_peak_density(300.0, m.ozone_half_width) * m.ozone_half_width == doctest::Approx(300.0 * 2.687e20));
+  CHECK(m.ozone_absorption.y == doctest::Approx(ozone_peak_density(300.0, 15000.0) * 3.5e-25).epsilon(1e-6));
+  CHECK(m.ozone_center - m.ozone_half_width == 10000.0f);
+  CHECK(m.ozone_center + m.ozone_half_width == 40000.0f);
+  CHECK(m.sun_angular_radius == doctest::Approx(0.2678 * 3.14159265358979 / 180.0).epsilon(1e-6));
 }
