@@ -1,16 +1,25 @@
 #include "atmosphere/colorimetry.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstddef>
 
 namespace cr {
 
 namespace {
 
-// The colour-matching functions at wavelength w (a 5-nm sample; 0 outside the table).
-glm::dvec3 cmf_at(double w) {
+// The colour-matching functions at a tabulated wavelength (0 outside the table).
+glm::dvec3 cmf_sample(double w) {
   for (const CmfSample& s : cie1931_cmf())
     if (s.wavelength_nm == w) return {s.x, s.y, s.z};
   return glm::dvec3(0.0);
+}
+
+// The bin's mean value at w (0 outside every bin).
+double bin_value(std::span<const SpectralSample> bins, double w) {
+  for (const SpectralSample& b : bins)
+    if (w >= b.wavelength_nm && w < b.wavelength_nm + 10.0) return b.value;
+  return 0.0;
 }
 
 // XYZ of chromaticity (x, y) at luminance Y = 1.
@@ -23,8 +32,30 @@ glm::dvec3 spectrum_to_xyz(std::span<const SpectralSample> bins) {
   for (const SpectralSample& b : bins) {
     const double w = b.wavelength_nm;
     // Trapezoids on [w, w + 5] and [w + 5, w + 10].
-    const glm::dvec3 integral = 2.5 * (cmf_at(w) + 2.0 * cmf_at(w + 5.0) + cmf_at(w + 10.0));
+    const glm::dvec3 integral = 2.5 * (cmf_sample(w) + 2.0 * cmf_sample(w + 5.0) + cmf_sample(w + 10.0));
     xyz += b.value * integral;
+  }
+  return xyz;
+}
+
+glm::dvec3 cmf_at(double w) {
+  const std::span<const CmfSample> t = cie1931_cmf();
+  if (!(w >= t.front().wavelength_nm && w <= t.back().wavelength_nm)) return glm::dvec3(0.0);
+  const size_t i = std::min(t.size() - 2, size_t((w - t.front().wavelength_nm) / 5.0));
+  const double f = (w - t[i].wavelength_nm) / (t[i + 1].wavelength_nm - t[i].wavelength_nm);
+  const glm::dvec3 a(t[i].x, t[i].y, t[i].z), b(t[i + 1].x, t[i + 1].y, t[i + 1].z);
+  return a + (b - a) * f;
+}
+
+glm::dvec3 band_xyz(std::span<const SpectralSample> bins, double lo, double hi) {
+  // Midpoints of 0.25-nm steps: exact for the linear colour-matching
+  // functions, and the spectrum's bin edges fall within 0.125 nm of a step edge.
+  const int steps = std::max(1, int(std::ceil((hi - lo) / 0.25)));
+  const double h = (hi - lo) / steps;
+  glm::dvec3 xyz(0.0);
+  for (int k = 0; k < steps; ++k) {
+    const double w = lo + (k + 0.5) * h;
+    xyz += bin_value(bins, w) * cmf_at(w) * h;
   }
   return xyz;
 }

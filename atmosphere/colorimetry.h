@@ -18,6 +18,14 @@ inline constexpr double kLuminousEfficacy = 683.0;  // lm/W at 555 nm: photometr
 // integrated over the bin (trapezoids on the 5-nm samples; 0 past 830 nm).
 glm::dvec3 spectrum_to_xyz(std::span<const SpectralSample> bins);
 
+// The colour-matching functions at any wavelength: linear between the 5-nm
+// samples, 0 outside 360-830 nm.
+glm::dvec3 cmf_at(double wavelength_nm);
+
+// CIE XYZ of the part of a bin-mean spectrum between lo and hi (nm): the
+// integral of spectrum x colour-matching functions over [lo, hi].
+glm::dvec3 band_xyz(std::span<const SpectralSample> bins, double lo_nm, double hi_nm);
+
 // The 3x3 matrix from CIE XYZ to linear sRGB, built from the sRGB primaries'
 // and D65's chromaticities (so that Y of each primary sums to 1 at white).
 glm::dmat3 xyz_to_linear_srgb_matrix();
