@@ -6,6 +6,7 @@
 
 #include "atmosphere/froxel_column.h"
 #include "atmosphere/phase_functions.h"
+#include "atmosphere/spectral_mix.h"
 
 namespace cr {
 
@@ -85,6 +86,23 @@ void AerialPerspectiveLut::bake(size_t begin, size_t end, const AtmosphereLuts& 
         for (int px = x; px <= (x + 1 == w ? x + 1 : x); ++px) packed_[packed_index(px, py, s)] = texel;
     }
   }
+}
+
+void AerialPerspectiveLut::mix_from(const std::vector<const AerialPerspectiveLut*>& groups,
+                                    const SpectralSampling& sampling) {
+  const size_t n = luminance_.count();
+  mix_image(luminance_.texels.data(), n, groups, sampling,
+            [](const AerialPerspectiveLut& l) -> const LutImage& { return l.luminance_; }, 0.0f);
+  mix_image(transmittance_.texels.data(), n, groups, sampling,
+            [](const AerialPerspectiveLut& l) -> const LutImage& { return l.transmittance_; }, 0.0f, 1.0f);
+  const int w = luminance_.width, h = luminance_.height;
+  for (int z = 0; z < luminance_.depth; ++z)
+    for (int py = 0; py <= h; ++py)
+      for (int px = 0; px <= w; ++px) {
+        const glm::vec3 lv = luminance_.at(std::min(px, w - 1), std::min(py, h - 1), z);
+        const glm::vec3 tv = transmittance_.at(std::min(px, w - 1), std::min(py, h - 1), z);
+        packed_[packed_index(px, py, z)] = {{lv.x, lv.y, lv.z, 0.0f}, {tv.x, tv.y, tv.z, 0.0f}};
+      }
 }
 
 void AerialPerspectiveLut::quantize_q15() {

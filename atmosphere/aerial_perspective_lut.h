@@ -69,6 +69,9 @@ class AerialPerspectiveLut {
   // Rounds both images to q15 (luminance with one scale, transmittance with
   // scale 1) and fills packed_q15() in packed()'s layout; for "luts": "q15".
   void quantize_q15();
+  // Both images from the LUTs of a spectral sampling's groups (spectral_mix.h),
+  // built with the same arguments; luminance clipped at 0, transmittance to [0, 1].
+  void mix_from(const std::vector<const AerialPerspectiveLut*>& groups, const SpectralSampling& sampling);
   bool quantized() const { return !packed_q15_.empty(); }
   const std::vector<FroxelTexelQ15>& packed_q15() const { return packed_q15_; }
   const Q15Scale& luminance_scale() const { return luminance_scale_; }

@@ -134,6 +134,11 @@ AtmosphereSettings parse_atmosphere_settings(const nlohmann::json& section, cons
     prec.fail("composite", "\"fixed\" samples the 16-bit LUTs: it needs \"luts\": \"q15\"");
   prec.finish();
 
+  // 3: the RGB model; more: bands over 380-780 nm baked in groups of three (spectral_sampling.h).
+  s.spectral_samples = f.integer("spectral_samples", s.spectral_samples, 3, 48);
+  if (s.spectral_samples % 3 != 0)
+    f.fail("spectral_samples", "must be a multiple of 3 (the LUTs bake wavelengths in groups of three), e.g. 3, 6, 12, 15");
+
   s.space_altitude = f.number("space_fallback_altitude_m", s.space_altitude, 0.0, 1e9);
   // Marched per pixel every frame in space: kept to what a frame can afford.
   s.space_steps = f.integer("space_march_steps", s.space_steps, 1, 256);

@@ -71,6 +71,11 @@ struct AtmosphereSettings {
   LutPrecision lut_precision = LutPrecision::Float32;
   CompositePrecision composite_precision = CompositePrecision::Float;
 
+  // Wavelengths the LUTs are baked at: 3 = the RGB model (680/550/440 nm);
+  // 6, 9, ... = that many bands over 380-780 nm, baked in groups of three
+  // and mixed into RGB at publish (spectral_sampling.h, spectral_mix.h).
+  int spectral_samples = 3;
+
   double space_altitude = 100e3;  // above this camera altitude: per-pixel ray marching, no sky-view/AP
   int space_steps = 24;           // steps of the per-pixel march (also used beyond the AP range)
 };

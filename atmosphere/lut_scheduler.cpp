@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <utility>
 
+#include "atmosphere/model_spectrum.h"
 #include "engine/core/math_constants.h"
 
 namespace cr {
@@ -38,11 +40,28 @@ size_t slice_begin(size_t items, size_t granule, int s, int slices) {
   return std::min(items, units * size_t(s) / size_t(slices) * granule);
 }
 
-LutScheduler::LutScheduler(const AtmosphereSettings& settings) : settings_(settings) {}
+LutScheduler::LutScheduler(const AtmosphereSettings& settings)
+    : LutScheduler(settings, lut_sampling(settings.spectral_samples)) {}
+
+LutScheduler::LutScheduler(const AtmosphereSettings& settings, SpectralSampling sampling)
+    : settings_(settings), sampling_(std::move(sampling)) {
+  group_models_ = group_models(model_);
+}
+
+std::vector<AtmosphereModel> LutScheduler::group_models(const AtmosphereModel& model) const {
+  if (sampling_.rgb) return {model};
+  std::vector<AtmosphereModel> groups;
+  for (int g = 0; g < sampling_.groups(); ++g) {
+    const double* w = &sampling_.wavelengths_nm[size_t(3 * g)];
+    groups.push_back(model_at_wavelengths(model, {w[0], w[1], w[2]}));
+  }
+  return groups;
+}
 
 void LutScheduler::set_model(const AtmosphereModel& model) {
   if (model == model_) return;
   model_ = model;
+  group_models_ = group_models(model_);
   ++model_version_;
 }
 
@@ -124,7 +143,7 @@ LutWork LutScheduler::decide(LutKind kind, const AtmosphereFrameInputs& in, bool
   bool upstream_ready = true;
   auto fill = [&](const auto& slot) {
     has_front = slot.front != nullptr;
-    in_progress = slot.back != nullptr;
+    in_progress = !slot.back.empty();
     next_slice = slot.next_slice;
     slices = slot.slices;
     last_start = slot.last_start;
@@ -215,6 +234,22 @@ void LutScheduler::run_slices(LutKind kind, size_t items, size_t granule, int sl
                       [&](size_t b, size_t e) { bake(begin + b, begin + e); });
 }
 
+namespace {
+
+template <class Lut>
+std::vector<const Lut*> raw(const std::vector<std::shared_ptr<Lut>>& luts) {
+  std::vector<const Lut*> out;
+  for (const auto& l : luts) out.push_back(l.get());
+  return out;
+}
+
+template <class Lut>
+std::vector<std::shared_ptr<const Lut>> to_const(const std::vector<std::shared_ptr<Lut>>& luts) {
+  return {luts.begin(), luts.end()};
+}
+
+}  // namespace
+
 void LutScheduler::run(LutKind kind, const AtmospherePlan& plan, JobSystem& jobs) {
   const LutWork& w = plan.work[size_t(kind)];
   Timing& timing = timing_[size_t(kind)];
@@ -222,102 +257,137 @@ void LutScheduler::run(LutKind kind, const AtmospherePlan& plan, JobSystem& jobs
   if (!w.active) return;
   const auto t0 = std::chrono::steady_clock::now();
   const AtmosphereSettings& s = settings_;
+  const size_t groups = group_models_.size();
   auto begin_rebuild = [&](auto& slot) {
     slot.next_slice = 0;
     slot.slices = w.slices;
     slot.last_start = plan.frame;
     slot.b_cause = w.cause;
     slot.b_camera = plan.inputs.camera;
+    slot.back.clear();
     timing.building_ms = 0.0;
   };
-  auto finish = [&](auto& slot) {
-    // A complete LUT is quantised before it is published (and inside the pass's time).
-    if (w.slice_end >= slot.slices && s.lut_precision == LutPrecision::Q15) slot.back->quantize_q15();
+  // `mixed()` makes an empty LUT of the same shape for the groups to be mixed into.
+  auto finish = [&](auto& slot, auto mixed) {
+    const bool complete = w.slice_end >= slot.slices;
+    decltype(mixed()) published;
+    if (complete) {
+      // A complete LUT is mixed and quantised before it is published (inside the pass's time).
+      if (slot.back.size() == 1) {
+        published = slot.back[0];
+      } else {
+        published = mixed();
+        published->mix_from(raw(slot.back), sampling_);
+      }
+      if (s.lut_precision == LutPrecision::Q15) published->quantize_q15();
+    }
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     timing.frame_ms = ms;
     timing.building_ms += ms;
     slot.next_slice = w.slice_end;
-    if (slot.next_slice >= slot.slices) {
-      slot.front = slot.back;
-      slot.back.reset();
+    if (complete) {
+      slot.front = published;
+      slot.front_groups = to_const(slot.back);
+      slot.back.clear();
       ++slot.version;
       slot.f_upstream = slot.b_upstream;
       slot.f_camera = slot.b_camera;
-      slot.built_from = slot.b_t;
+      slot.built_from = slot.b_t_mixed;
+      slot.built_from_groups = slot.b_t;
       timing.full_ms = timing.building_ms;
     }
   };
   switch (kind) {
     case LutKind::Transmittance: {
+      auto make = [&](const AtmosphereModel& m) {
+        return std::make_shared<TransmittanceLut>(m, s.transmittance_width, s.transmittance_height, s.transmittance_steps);
+      };
       if (w.restart) {
         begin_rebuild(t_);
-        t_.back = std::make_shared<TransmittanceLut>(model_, s.transmittance_width, s.transmittance_height,
-                                                     s.transmittance_steps);
+        for (const AtmosphereModel& m : group_models_) t_.back.push_back(make(m));
         t_.b_upstream = model_version_;
       }
-      TransmittanceLut& lut = *t_.back;
-      run_slices(kind, lut.texel_count(), size_t(s.transmittance_width), w.slice, w.slice_end, t_.slices, jobs,
-                 [&](size_t b, size_t e) { lut.bake(b, e); });
-      finish(t_);
+      for (const auto& lut : t_.back)
+        run_slices(kind, lut->texel_count(), size_t(s.transmittance_width), w.slice, w.slice_end, t_.slices, jobs,
+                   [&](size_t b, size_t e) { lut->bake(b, e); });
+      finish(t_, [&] { return make(model_); });
       break;
     }
     case LutKind::MultiScattering: {
       if (w.restart) {
         begin_rebuild(ms_);
-        ms_.b_t = t_.front;
+        ms_.b_t_mixed = t_.front;
+        ms_.b_t = t_.front_groups;
         ms_.b_upstream = t_.version;
-        const AtmosphereModel& m = ms_.b_t->model();
-        if (!ms_orders_model_ || !(*ms_orders_model_ == m)) {
-          ms_orders_ = explicit_orders_for(m, s);
-          ms_orders_model_ = m;
+        ms_orders_.resize(groups);
+        ms_orders_model_.resize(groups);
+        for (size_t g = 0; g < groups; ++g) {
+          const AtmosphereModel& m = ms_.b_t[g]->model();
+          if (!ms_orders_model_[g] || !(*ms_orders_model_[g] == m)) {
+            ms_orders_[g] = explicit_orders_for(m, s);
+            ms_orders_model_[g] = m;
+          }
+          ms_.back.push_back(new_multiscattering_lut(m, s, ms_orders_[g].orders));
         }
-        ms_.back = new_multiscattering_lut(m, s, ms_orders_.orders);
       }
-      MultiScatteringLut& lut = *ms_.back;
-      const TransmittanceLut& t = *ms_.b_t;
       const size_t granule = size_t(s.multiscattering_width);
-      bake_in_jobs(lut, slice_begin(lut.work_items(), granule, w.slice, ms_.slices),
-                   slice_begin(lut.work_items(), granule, w.slice_end, ms_.slices), granule, t, jobs,
-                   std::string("atmosphere.") + lut_name(kind));
-      finish(ms_);
+      for (size_t g = 0; g < groups; ++g) {
+        MultiScatteringLut& lut = *ms_.back[g];
+        bake_in_jobs(lut, slice_begin(lut.work_items(), granule, w.slice, ms_.slices),
+                     slice_begin(lut.work_items(), granule, w.slice_end, ms_.slices), granule, *ms_.b_t[g], jobs,
+                     std::string("atmosphere.") + lut_name(kind));
+      }
+      finish(ms_, [&] { return new_multiscattering_lut(ms_.b_t_mixed->model(), s, ms_orders_[0].orders); });
       break;
     }
     case LutKind::SkyView: {
+      const glm::dvec3 up = plan.inputs.camera.position / plan.inputs.radius();
+      const float mu_s = float(std::clamp(glm::dot(glm::dvec3(plan.inputs.camera.sun_direction), up), -1.0, 1.0));
+      const AtmosphereModel& m = ms_.built_from->model();
+      const float altitude = float(skyview_altitude(plan.inputs.altitude(), m.atmosphere_height(), s.space_altitude));
+      // Limb rays seen from space cross the whole shell: they get the space march's step count.
+      const int max_steps = plan.space ? std::max(s.skyview_max_steps, s.space_steps) : s.skyview_max_steps;
+      auto make = [&] {
+        return std::make_shared<SkyViewLut>(s.skyview_width, s.skyview_height, s.skyview_min_steps, max_steps,
+                                            altitude, mu_s, m.bottom_radius, m.top_radius);
+      };
       if (w.restart) {
         begin_rebuild(sv_);
-        sv_.b_t = ms_.built_from;
-        sv_.b_ms = ms_.front;
+        sv_.b_t_mixed = ms_.built_from;
+        sv_.b_t = ms_.built_from_groups;
+        sv_.b_ms = ms_.front_groups;
         sv_.b_upstream = ms_.version;
-        const glm::dvec3 up = plan.inputs.camera.position / plan.inputs.radius();
-        const float mu_s = float(std::clamp(glm::dot(glm::dvec3(plan.inputs.camera.sun_direction), up), -1.0, 1.0));
-        const AtmosphereModel& m = sv_.b_t->model();
-        const float altitude = float(skyview_altitude(plan.inputs.altitude(), m.atmosphere_height(), s.space_altitude));
-        // Limb rays seen from space cross the whole shell: they get the space march's step count.
-        const int max_steps = plan.space ? std::max(s.skyview_max_steps, s.space_steps) : s.skyview_max_steps;
-        sv_.back = std::make_shared<SkyViewLut>(s.skyview_width, s.skyview_height, s.skyview_min_steps, max_steps,
-                                                altitude, mu_s, m.bottom_radius, m.top_radius);
+        for (size_t g = 0; g < groups; ++g) sv_.back.push_back(make());
       }
-      SkyViewLut& lut = *sv_.back;
-      const AtmosphereLuts luts{sv_.b_t->model(), *sv_.b_t, *sv_.b_ms};
-      run_slices(kind, lut.texel_count(), size_t(s.skyview_width), w.slice, w.slice_end, sv_.slices, jobs,
-                 [&](size_t b, size_t e) { lut.bake(b, e, luts); });
-      finish(sv_);
+      for (size_t g = 0; g < groups; ++g) {
+        SkyViewLut& lut = *sv_.back[g];
+        const AtmosphereLuts luts{sv_.b_t[g]->model(), *sv_.b_t[g], *sv_.b_ms[g]};
+        run_slices(kind, lut.texel_count(), size_t(s.skyview_width), w.slice, w.slice_end, sv_.slices, jobs,
+                   [&](size_t b, size_t e) { lut.bake(b, e, luts); });
+      }
+      finish(sv_, make);
       break;
     }
     case LutKind::AerialPerspective: {
+      auto make = [&] {
+        return std::make_shared<AerialPerspectiveLut>(s.ap_width, s.ap_height, s.ap_depth, s.ap_km_per_slice,
+                                                      s.ap_steps_per_slice, plan.inputs.camera);
+      };
       if (w.restart) {
         begin_rebuild(ap_);
-        ap_.b_t = ms_.built_from;
-        ap_.b_ms = ms_.front;
+        ap_.b_t_mixed = ms_.built_from;
+        ap_.b_t = ms_.built_from_groups;
+        ap_.b_ms = ms_.front_groups;
         ap_.b_upstream = ms_.version;
-        ap_.back = std::make_shared<AerialPerspectiveLut>(s.ap_width, s.ap_height, s.ap_depth, s.ap_km_per_slice,
-                                                          s.ap_steps_per_slice, plan.inputs.camera);
+        for (size_t g = 0; g < groups; ++g) ap_.back.push_back(make());
       }
-      AerialPerspectiveLut& lut = *ap_.back;
-      const AtmosphereLuts luts{ap_.b_t->model(), *ap_.b_t, *ap_.b_ms};
-      run_slices(kind, lut.column_count(), size_t(s.ap_width), w.slice, w.slice_end, ap_.slices, jobs,
-                 [&](size_t b, size_t e) { lut.bake(b, e, luts); });
-      finish(ap_);
+      for (size_t g = 0; g < groups; ++g) {
+        AerialPerspectiveLut& lut = *ap_.back[g];
+        const AtmosphereLuts luts{ap_.b_t[g]->model(), *ap_.b_t[g], *ap_.b_ms[g]};
+        run_slices(kind, lut.column_count(), size_t(s.ap_width), w.slice, w.slice_end, ap_.slices, jobs,
+                   [&](size_t b, size_t e) { lut.bake(b, e, luts); });
+      }
+      finish(ap_, make);
       break;
     }
   }

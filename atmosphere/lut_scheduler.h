@@ -23,12 +23,18 @@
 // and the sky-view LUT is built for the camera's true altitude (seen from space).
 // Each rebuild snapshots its inputs and upstream LUTs when it starts, so all of
 // its slices see the same inputs and its result is bit-identical to a one-shot build.
+//
+// With "spectral_samples" above 3 every LUT is baked once per group of three
+// wavelengths (each group's chain reads its own upstream LUTs) and the
+// published LUT is the groups mixed into RGB (spectral_mix.h); the schedule,
+// slicing and invalidation are the same for all groups.
 #include <array>
 #include <functional>
 #include <cstdint>
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -37,6 +43,7 @@
 #include "atmosphere/atmosphere_settings.h"
 #include "atmosphere/multiscattering_lut.h"
 #include "atmosphere/skyview_lut.h"
+#include "atmosphere/spectral_sampling.h"
 #include "atmosphere/transmittance_lut.h"
 #include "engine/core/job_system.h"
 
@@ -71,12 +78,15 @@ struct AtmospherePlan {
 
 class LutScheduler {
  public:
+  // The sampling is lut_sampling(settings.spectral_samples) unless given.
   explicit LutScheduler(const AtmosphereSettings& settings);
+  LutScheduler(const AtmosphereSettings& settings, SpectralSampling sampling);
 
   // Sets the atmosphere; a different model invalidates the transmittance LUT.
   void set_model(const AtmosphereModel& model);
   const AtmosphereModel& model() const { return model_; }
   const AtmosphereSettings& settings() const { return settings_; }
+  const SpectralSampling& sampling() const { return sampling_; }
 
   // Decides this frame's work; changes no state.
   AtmospherePlan plan(const AtmosphereFrameInputs& inputs) const;
@@ -108,9 +118,10 @@ class LutScheduler {
   };
   template <class Lut>
   struct Slot {
-    std::shared_ptr<const Lut> front;
+    std::shared_ptr<const Lut> front;  // published (RGB: the groups mixed)
+    std::vector<std::shared_ptr<const Lut>> front_groups;  // per wavelength group (RGB: front itself)
     uint64_t version = 0;
-    std::shared_ptr<Lut> back;
+    std::vector<std::shared_ptr<Lut>> back;  // the rebuild in progress, per group; empty when idle
     int next_slice = 0;
     int slices = 1;
     int last_start = -1000000;
@@ -118,11 +129,15 @@ class LutScheduler {
     uint64_t f_upstream = 0, b_upstream = 0;
     FroxelCamera f_camera, b_camera;
     float f_altitude = 0.0f, b_altitude = 0.0f;
-    std::shared_ptr<const TransmittanceLut> built_from, b_t;   // upstream snapshots
-    std::shared_ptr<const MultiScatteringLut> b_ms;
+    // Upstream snapshots: the mixed transmittance (for the consumers of the
+    // front) and each group's upstream LUTs (for the group bakes).
+    std::shared_ptr<const TransmittanceLut> built_from, b_t_mixed;
+    std::vector<std::shared_ptr<const TransmittanceLut>> built_from_groups, b_t;
+    std::vector<std::shared_ptr<const MultiScatteringLut>> b_ms;
     std::string b_cause;
   };
 
+  std::vector<AtmosphereModel> group_models(const AtmosphereModel& model) const;
   LutWork decide(LutKind kind, const AtmosphereFrameInputs& in, bool space, const AtmospherePlan& so_far) const;
   std::string invalidation(LutKind kind, const AtmosphereFrameInputs& in, bool against_back,
                            uint64_t upstream_version) const;
@@ -131,11 +146,13 @@ class LutScheduler {
                   JobSystem& jobs, const std::function<void(size_t, size_t)>& bake);
 
   AtmosphereSettings settings_;
+  SpectralSampling sampling_;
   AtmosphereModel model_;
+  std::vector<AtmosphereModel> group_models_;  // model_ at each group's wavelengths
   uint64_t model_version_ = 1;
   // The multi-scattering LUT's explicit orders and the atmosphere they were chosen for.
-  ExplicitOrderChoice ms_orders_;
-  std::optional<AtmosphereModel> ms_orders_model_;
+  std::vector<ExplicitOrderChoice> ms_orders_;  // per group
+  std::vector<std::optional<AtmosphereModel>> ms_orders_model_;
   Slot<TransmittanceLut> t_;
   Slot<MultiScatteringLut> ms_;
   Slot<SkyViewLut> sv_;

@@ -10,6 +10,7 @@
 #include "engine/core/q15_scale.h"
 #include "atmosphere/phase_functions.h"
 #include "atmosphere/planet_geometry.h"
+#include "atmosphere/spectral_mix.h"
 #include "engine/core/fast_math.h"
 #include "engine/core/math_constants.h"
 
@@ -486,6 +487,25 @@ float MultiScatteringLut::max_fms_seen() const {
   float m = 0.0f;
   for (float f : fms_) m = std::max(m, f);
   return m;
+}
+
+void MultiScatteringLut::mix_from(const std::vector<const MultiScatteringLut*>& groups,
+                                  const SpectralSampling& sampling) {
+  const size_t n = image_.count();
+  mix_image(image_.texels.data(), n, groups, sampling, [](const MultiScatteringLut& l) -> const LutImage& { return l.image_; },
+            0.0f);
+  for (size_t i = 0; i < n; ++i) std::memcpy(&packed_[4 * i], &image_.texels[i], sizeof(glm::vec3));
+  for (size_t k = 0; k < moment_images_.size(); ++k) {
+    mix_image(moment_images_[k].texels.data(), n, groups, sampling,
+              [k](const MultiScatteringLut& l) -> const LutImage& { return l.moment_images_[k]; });
+    for (size_t i = 0; i < n; ++i)
+      std::memcpy(&moments_[(k * n + i) * 4], &moment_images_[k].texels[i], sizeof(glm::vec3));
+  }
+  for (const MultiScatteringLut* g : groups)
+    for (size_t i = 0; i < n; ++i) {
+      clamped_[i] = std::max(clamped_[i], g->clamped_[i]);
+      fms_[i] = std::max(fms_[i], g->fms_[i]);
+    }
 }
 
 void MultiScatteringLut::quantize_q15() {

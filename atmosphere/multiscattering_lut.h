@@ -119,6 +119,10 @@ class MultiScatteringLut {
   // Rounds the image to q15 (one scale) for "luts": "q15". The moments
   // (signed, small corrections to the image) stay float.
   void quantize_q15();
+  // Psi and its moments from the LUTs of a spectral sampling's groups
+  // (spectral_mix.h), built with the same arguments: Psi clipped at 0, the
+  // signed moments not; a texel counts as clamped if any group's was.
+  void mix_from(const std::vector<const MultiScatteringLut*>& groups, const SpectralSampling& sampling);
 
   const LutImage& image() const { return image_; }
   const float* packed() const { return packed_.data(); }  // the image as rgb + pad (see float4.h)

@@ -5,6 +5,7 @@
 
 #include "atmosphere/planet_geometry.h"
 #include "atmosphere/q15_texels.h"
+#include "atmosphere/spectral_mix.h"
 #include "engine/core/fast_math.h"
 #include "engine/core/fixed_point.h"
 #include "engine/core/math_constants.h"
@@ -91,6 +92,17 @@ void SkyViewLut::bake(size_t begin, size_t end, const AtmosphereLuts& luts) {
       packed_[i] = {{sh.rest.x, sh.rest.y, sh.rest.z, 0.0f},
                     {sh.mie_unphased.x, sh.mie_unphased.y, sh.mie_unphased.z, 0.0f}};
     }
+  }
+}
+
+void SkyViewLut::mix_from(const std::vector<const SkyViewLut*>& groups, const SpectralSampling& sampling) {
+  mix_image(image_.texels.data(), image_.count(), groups, sampling, [](const SkyViewLut& l) -> const LutImage& { return l.image_; },
+            0.0f);
+  mix_image(mie_.texels.data(), mie_.count(), groups, sampling, [](const SkyViewLut& l) -> const LutImage& { return l.mie_; },
+            0.0f);
+  for (size_t i = 0; i < image_.count(); ++i) {
+    const glm::vec3 r = image_.texels[i], m = mie_.texels[i];
+    packed_[i] = {{r.x, r.y, r.z, 0.0f}, {m.x, m.y, m.z, 0.0f}};
   }
 }
 

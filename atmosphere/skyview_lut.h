@@ -80,6 +80,9 @@ class SkyViewLut {
   }
   // Rounds both images to q15 (one scale each) and fills packed_q15(); for "luts": "q15".
   void quantize_q15();
+  // Both images from the LUTs of a spectral sampling's groups (spectral_mix.h),
+  // built with the same arguments; clipped at 0.
+  void mix_from(const std::vector<const SkyViewLut*>& groups, const SpectralSampling& sampling);
   bool quantized() const { return !packed_q15_.empty(); }
   // sample() from the q15 texels in 16-bit integer arithmetic: both parts
   // lerped as 8 codes (u, then v: fx::lerp_q15 with q15 weights), then

@@ -8,6 +8,7 @@
 #include "atmosphere/float4.h"
 #include "engine/core/q15_scale.h"
 #include "atmosphere/planet_geometry.h"
+#include "atmosphere/spectral_mix.h"
 
 namespace cr {
 
@@ -130,6 +131,12 @@ void TransmittanceLut::bake(size_t begin, size_t end) {
     image_.texels[i] = t;
     std::memcpy(&packed_[4 * i], &t, sizeof t);
   }
+}
+
+void TransmittanceLut::mix_from(const std::vector<const TransmittanceLut*>& groups, const SpectralSampling& sampling) {
+  mix_image(image_.texels.data(), image_.count(), groups, sampling, [](const TransmittanceLut& l) -> const LutImage& { return l.image_; },
+            0.0f, 1.0f);
+  for (size_t i = 0; i < image_.count(); ++i) std::memcpy(&packed_[4 * i], &image_.texels[i], sizeof(glm::vec3));
 }
 
 void TransmittanceLut::quantize_q15() {

@@ -13,6 +13,7 @@
 
 #include "atmosphere/atmosphere_model.h"
 #include "atmosphere/lut_image.h"
+#include "atmosphere/spectral_sampling.h"
 
 namespace cr {
 
@@ -61,6 +62,9 @@ class TransmittanceLut {
   // Rounds the image to q15 (scale 1: T = 1 is 1 - 2^-15; T under 2^-16
   // becomes 0); for "luts": "q15".
   void quantize_q15();
+  // The image from the LUTs of a spectral sampling's groups (spectral_mix.h),
+  // same size and mapping, clipped to [0, 1]; this LUT's model is the RGB one.
+  void mix_from(const std::vector<const TransmittanceLut*>& groups, const SpectralSampling& sampling);
 
   const LutImage& image() const { return image_; }
   const float* packed() const { return packed_.data(); }  // the image as rgb + pad (see float4.h)

@@ -50,50 +50,23 @@ ErrorStats relative_error(const std::vector<glm::vec3>& test, const std::vector<
   return s;
 }
 
-// Bake time of one slice range of one LUT, built from the published LUTs of `base`.
-double time_bake(LutKind kind, const LutScheduler& base, const AtmosphereFrameInputs& in, int slice, int slices,
-                 JobSystem& jobs) {
-  const AtmosphereSettings& s = base.settings();
-  const AtmosphereModel& m = base.model();
-  const TransmittanceLut& t = *base.multiscattering_source();
-  const MultiScatteringLut& ms = *base.multiscattering();
-  const AtmosphereLuts luts{m, t, ms};
-  auto timed = [&](size_t items, size_t granule, const std::function<void(size_t, size_t)>& bake) {
-    const size_t b = slice_begin(items, granule, slice, slices), e = slice_begin(items, granule, slice + 1, slices);
-    const double t0 = now_ms();
-    jobs.parallel_for("bench", e - b, granule, [&](size_t x, size_t y) { bake(b + x, b + y); });
-    return now_ms() - t0;
-  };
-  switch (kind) {
-    case LutKind::Transmittance: {
-      TransmittanceLut lut(m, s.transmittance_width, s.transmittance_height, s.transmittance_steps);
-      return timed(lut.texel_count(), size_t(s.transmittance_width), [&](size_t b, size_t e) { lut.bake(b, e); });
-    }
-    case LutKind::MultiScattering: {
-      // The scheduler's own explicit orders, chosen once for this atmosphere.
-      const std::shared_ptr<MultiScatteringLut> made = new_multiscattering_lut(m, s, ms.explicit_orders());
-      MultiScatteringLut& lut = *made;
-      const size_t granule = size_t(s.multiscattering_width);
-      const size_t b = slice_begin(lut.work_items(), granule, slice, slices);
-      const size_t e = slice_begin(lut.work_items(), granule, slice + 1, slices);
-      const double t0 = now_ms();
-      bake_in_jobs(lut, b, e, granule, t, jobs, "bench");
-      return now_ms() - t0;
-    }
-    case LutKind::SkyView: {
-      const glm::dvec3 up = in.camera.position / in.radius();
-      SkyViewLut lut(s.skyview_width, s.skyview_height, s.skyview_min_steps, s.skyview_max_steps,
-                     float(in.altitude()), float(glm::dot(glm::dvec3(in.camera.sun_direction), up)), m.bottom_radius,
-                     m.top_radius);
-      return timed(lut.texel_count(), size_t(s.skyview_width), [&](size_t b, size_t e) { lut.bake(b, e, luts); });
-    }
-    case LutKind::AerialPerspective: {
-      AerialPerspectiveLut lut(s.ap_width, s.ap_height, s.ap_depth, s.ap_km_per_slice, s.ap_steps_per_slice,
-                               in.camera);
-      return timed(lut.column_count(), size_t(s.ap_width), [&](size_t b, size_t e) { lut.bake(b, e, luts); });
-    }
+// The time of each slice of one rebuild of one LUT, run by a copy of the
+// scheduler (its published LUTs as upstream): the bakes of every wavelength
+// group, their mixing and quantisation, as a frame would run them.
+std::vector<double> time_rebuild(LutKind kind, const LutScheduler& base, const AtmosphereFrameInputs& in, int slices,
+                                 JobSystem& jobs) {
+  LutScheduler luts = base;
+  AtmospherePlan plan;
+  plan.frame = in.frame;
+  plan.inputs = in;
+  std::vector<double> times;
+  for (int q = 0; q < slices; ++q) {
+    LutWork& w = plan.work[size_t(kind)];
+    w = {true, q == 0, q, q + 1, slices, q + 1 == slices, "bench"};
+    luts.run(kind, plan, jobs);
+    times.push_back(luts.frame_ms(kind));
   }
-  return 0.0;
+  return times;
 }
 
 // A synthetic frame: sky above the horizon, ground geometry below at the distance a flat plane would be
@@ -176,7 +149,8 @@ int sky_bench_command(const std::vector<std::string>& args) {
 
   std::vector<unsigned> thread_counts{1};
   if (all_threads > 1) thread_counts.push_back(all_threads);
-  std::printf("sky-bench: preset %s, median of %d runs\n", setup.scene.preset.c_str(), repeat);
+  std::printf("sky-bench: preset %s, %d wavelengths (%s), median of %d runs\n", setup.scene.preset.c_str(),
+              s.spectral_samples, s.spectral_samples == 3 ? "RGB" : "spectral bands, mixed into RGB", repeat);
   const double o0 = now_ms();
   const ExplicitOrderChoice orders = explicit_orders_for(setup.scene.model, s);
   const double orders_ms = now_ms() - o0;
@@ -202,10 +176,9 @@ int sky_bench_command(const std::vector<std::string>& args) {
       std::vector<double> f, sl;
       const int slices = s.schedule[size_t(k)].slices;
       for (int r = 0; r < repeat; ++r) {
-        f.push_back(time_bake(LutKind(k), *c.luts, in, 0, 1, jobs));
-        double worst = 0.0;
-        for (int q = 0; q < slices; ++q) worst = std::max(worst, time_bake(LutKind(k), *c.luts, in, q, slices, jobs));
-        sl.push_back(worst);
+        f.push_back(time_rebuild(LutKind(k), *c.luts, in, 1, jobs)[0]);
+        const std::vector<double> parts = time_rebuild(LutKind(k), *c.luts, in, slices, jobs);
+        sl.push_back(*std::max_element(parts.begin(), parts.end()));
       }
       full_ms[threads][size_t(k)] = median(f);
       slice_ms[threads][size_t(k)] = median(sl);
