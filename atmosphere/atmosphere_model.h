@@ -20,8 +20,11 @@ struct AtmosphereModel {
   glm::vec3 rayleigh_scattering{5.802e-6f, 13.558e-6f, 33.1e-6f};
   float rayleigh_scale_height = 8000.0f;
 
+  // Extinction 4.44e-6 /m with single-scattering albedo 0.9 (Bruneton 2017's
+  // reference implementation; Hillaire 2020's table prints the absorption as
+  // 4.4e-6, ten times this, which would make the haze a tenth as bright).
   glm::vec3 mie_scattering{3.996e-6f};
-  glm::vec3 mie_absorption{4.40e-6f};
+  glm::vec3 mie_absorption{0.444e-6f};
   float mie_scale_height = 1200.0f;
   MiePhaseModel mie_phase = MiePhaseModel::CornetteShanks;
   float mie_g = 0.8f;            // Cornette-Shanks g, or the first HG lobe of the double HG

@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "atmosphere/spectral_tables.h"
+#include "engine/core/spectral_tables.h"
 #include "engine/core/math_constants.h"
 
 namespace cr {

@@ -3,9 +3,9 @@
 #include <stdexcept>
 #include <string>
 
-#include "atmosphere/colorimetry.h"
+#include "engine/core/colorimetry.h"
 #include "atmosphere/reference_atmosphere.h"
-#include "atmosphere/spectral_tables.h"
+#include "engine/core/spectral_tables.h"
 
 namespace cr {
 
@@ -53,13 +53,6 @@ glm::dvec3 to_rgb(const SpectralSampling& s, const std::vector<glm::dvec3>& grou
   glm::dvec3 rgb(0.0);
   for (size_t i = 0; i < s.wavelengths_nm.size(); ++i) rgb += s.weights[i] * group_values[i / 3][int(i % 3)];
   return rgb;
-}
-
-double solar_illuminance_lux() { return kLuminousEfficacy * spectrum_to_xyz(solar_irradiance_toa()).y; }
-
-glm::dvec3 solar_color() {
-  const glm::dvec3 xyz = spectrum_to_xyz(solar_irradiance_toa());
-  return xyz_to_linear_srgb_matrix() * xyz / xyz.y;
 }
 
 }  // namespace cr

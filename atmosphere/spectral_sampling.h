@@ -35,9 +35,4 @@ SpectralSampling reference_sampling();
 // Combines per-wavelength values (groups of three, in the sampling's order) into linear sRGB.
 glm::dvec3 to_rgb(const SpectralSampling& s, const std::vector<glm::dvec3>& group_values);
 
-// The sun at the top of the atmosphere from the solar spectrum: its
-// illuminance (lux) and its linear sRGB colour at unit luminance.
-double solar_illuminance_lux();
-glm::dvec3 solar_color();
-
 }  // namespace cr

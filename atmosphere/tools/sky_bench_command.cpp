@@ -141,7 +141,7 @@ int sky_bench_command(const std::vector<std::string>& args) {
   const AtmosphereSettings& s = setup.settings;
   AtmosphereSettings full = s;
   full.full_schedule = true;
-  const glm::vec3 e(110000.0f);
+  const glm::vec3 e = solar_sun_illuminance();
   const double altitude = 2.0;
   const Camera cam = Camera::look_at(glm::dvec3(0.0, altitude, 0.0), glm::dvec3(1000.0, altitude - 40.0, 300.0),
                                      1.0471976f, float(width) / float(height), 0.1f);

@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "atmosphere/planet_frame.h"
+#include "engine/core/colorimetry.h"
 #include "engine/core/error.h"
 #include "engine/core/json_input.h"
 #include "engine/core/math_constants.h"
@@ -79,6 +80,8 @@ Camera horizon_camera(double altitude, int width, int height) {
   return Camera::look_at(glm::dvec3(0.0, altitude, 0.0), glm::dvec3(1000.0, altitude, 0.0), 1.0471976f,
                          float(width) / float(height), 0.1f);
 }
+
+glm::vec3 solar_sun_illuminance() { return glm::vec3(solar_color() * solar_illuminance_lux()); }
 
 glm::vec3 sun_at_zenith_angle(double zenith_deg) {
   const double z = zenith_deg * kPiD / 180.0;

@@ -46,6 +46,8 @@ glm::vec3 path_sun(int frame);
 // A camera `altitude` metres above the ground looking at the horizon towards +X (the sun's azimuth).
 Camera horizon_camera(double altitude, int width, int height);
 // The unit direction to a sun `zenith_deg` from the zenith, in the +X azimuth.
+// The scene default's sun: the solar spectrum's illuminance and colour (engine/core/colorimetry.h).
+glm::vec3 solar_sun_illuminance();
 glm::vec3 sun_at_zenith_angle(double zenith_deg);
 double now_ms();  // a steady clock
 

@@ -144,7 +144,7 @@ int sky_environment_command(const std::vector<std::string>& args) {
   const int ndirs = p.get_int("directions", 4, 100000);
   const int samples = p.get_int("samples", 16, 1 << 20);
   const int frames = p.get_int("frames", 2, 100000);
-  const glm::vec3 e(110000.0f);
+  const glm::vec3 e = solar_sun_illuminance();
   const double altitude = 2.0;
   const Camera cam = horizon_camera(altitude, 16, 9);
   const std::vector<int> sizes = EnvironmentPrefilter::level_sizes(s.environment_size, s.environment_levels);

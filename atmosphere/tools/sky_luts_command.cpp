@@ -26,7 +26,7 @@ int sky_luts_command(const std::vector<std::string>& args) {
   SkyCase c = make_sky_case(setup, full);
   const double altitude = p.get_double("altitude", -1e4, 1e7);
   const double zenith = p.get_double("sun-zenith", 0.0, 180.0);
-  update_sky_case(c, 0, horizon_camera(altitude, 16, 9), sun_at_zenith_angle(zenith), glm::vec3(110000.0f), jobs);
+  update_sky_case(c, 0, horizon_camera(altitude, 16, 9), sun_at_zenith_angle(zenith), solar_sun_illuminance(), jobs);
   for (const std::string& path : write_lut_debug_views(*c.luts, p.get("out"))) std::printf("wrote %s\n", path.c_str());
   if (c.luts->multiscattering()->clamped_texels() > 0)
     std::printf("note: %d multi-scattering texels clamped f_ms to %.3f (largest f_ms %.3f)\n",

@@ -10,6 +10,8 @@
 #include <glm/glm.hpp>
 #include <nlohmann/json.hpp>
 
+#include "engine/core/colorimetry.h"
+
 namespace cr {
 
 // Camera pose at a frame; poses between keys are interpolated (position
@@ -40,8 +42,9 @@ struct SunKey {
 
 struct SunSpec {
   std::vector<SunKey> keys;          // empty: glTF sun or the default
-  glm::vec3 color{1.0f};
-  float illuminance = 110000.0f;     // lux at the top of the atmosphere / unattenuated
+  // The solar spectrum's at the top of the atmosphere (engine/core/colorimetry.h).
+  glm::vec3 color = glm::vec3(solar_color());
+  float illuminance = float(solar_illuminance_lux());  // lux at the top of the atmosphere / unattenuated
   bool from_gltf = false;
 };
 

@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "atmosphere/atmosphere_model.h"
-#include "atmosphere/colorimetry.h"
+#include "engine/core/colorimetry.h"
 #include "atmosphere/reference_atmosphere.h"
 #include "engine/core/luminance.h"
 

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "atmosphere/atmosphere_settings.h"
-#include "atmosphere/colorimetry.h"
+#include "engine/core/colorimetry.h"
 #include "atmosphere/model_spectrum.h"
 #include "atmosphere/reference_atmosphere.h"
 #include "atmosphere/sky_composite.h"

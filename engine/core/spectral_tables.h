@@ -1,5 +1,5 @@
 #pragma once
-// Measured spectra for the spectral sky (atmosphere/data/spectral/, sources in
+// Measured spectra for the spectral sky (engine/data/spectral/, sources in
 // its README), compiled in by the build from the CSV files.
 #include <span>
 

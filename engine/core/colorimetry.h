@@ -7,7 +7,7 @@
 
 #include <glm/glm.hpp>
 
-#include "atmosphere/spectral_tables.h"
+#include "engine/core/spectral_tables.h"
 
 namespace cr {
 
@@ -29,5 +29,13 @@ glm::dvec3 band_xyz(std::span<const SpectralSample> bins, double lo_nm, double h
 // The 3x3 matrix from CIE XYZ to linear sRGB, built from the sRGB primaries'
 // and D65's chromaticities (so that Y of each primary sums to 1 at white).
 glm::dmat3 xyz_to_linear_srgb_matrix();
+
+// The sun at the top of the atmosphere from the measured solar spectrum
+// (ASTM G-173-03): its illuminance, 683 lm/W x the integral of E(lambda)
+// ybar(lambda) (about 133,200 lx), and its linear sRGB colour at unit
+// luminance (x 0.324, y 0.333: a little warmer than D65). The scene's sun
+// defaults to these.
+double solar_illuminance_lux();
+glm::dvec3 solar_color();
 
 }  // namespace cr

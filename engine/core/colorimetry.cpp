@@ -1,4 +1,4 @@
-#include "atmosphere/colorimetry.h"
+#include "engine/core/colorimetry.h"
 
 #include <algorithm>
 #include <cmath>
@@ -58,6 +58,19 @@ glm::dvec3 band_xyz(std::span<const SpectralSample> bins, double lo, double hi) 
     xyz += bin_value(bins, w) * cmf_at(w) * h;
   }
   return xyz;
+}
+
+double solar_illuminance_lux() {
+  static const double lux = kLuminousEfficacy * spectrum_to_xyz(solar_irradiance_toa()).y;
+  return lux;
+}
+
+glm::dvec3 solar_color() {
+  static const glm::dvec3 color = [] {
+    const glm::dvec3 xyz = spectrum_to_xyz(solar_irradiance_toa());
+    return xyz_to_linear_srgb_matrix() * xyz / xyz.y;
+  }();
+  return color;
 }
 
 glm::dmat3 xyz_to_linear_srgb_matrix() {
