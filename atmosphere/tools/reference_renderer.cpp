@@ -1,6 +1,7 @@
 #include "atmosphere/tools/reference_renderer.h"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <stdexcept>
@@ -430,17 +431,30 @@ ReferenceImage render_reference(const AtmosphereModel& model, const ReferenceVie
                                   : model_at_wavelengths(model, {sampling.wavelengths_nm[w], sampling.wavelengths_nm[w + 1],
                                                                  sampling.wavelengths_nm[w + 2]}));
   }
-  std::vector<Reference> refs;
   std::vector<GroupCoefficients> coefficients;
-  for (const AtmosphereModel& m : models) {
-    refs.emplace_back(m);
-    coefficients.emplace_back(m);
+  for (const AtmosphereModel& m : models) coefficients.emplace_back(m);
+  const Reference geometry(models.front());  // radii, density profiles, phase and sun disk: the same in every group
+  // The paths' groups interleave the wavelengths: path group g holds the
+  // sampling's wavelengths g, g + G and g + 2G. Over a sampling ordered by
+  // wavelength each path then spans the spectrum (its three channels add up to
+  // a colour, not a narrow band whose sRGB weights are partly negative), which
+  // keeps the paths' colour and luminance noise low. The RGB sampling (G = 1)
+  // keeps its own channels.
+  std::vector<std::array<size_t, 3>> path_index(static_cast<size_t>(g_count));
+  std::vector<AtmosphereModel> path_models;
+  for (int g = 0; g < g_count; ++g) {
+    for (size_t c = 0; c < 3; ++c) path_index[size_t(g)][c] = size_t(g) + c * size_t(g_count);
+    const std::array<size_t, 3>& w = path_index[size_t(g)];
+    path_models.push_back(sampling.rgb ? model
+                                       : model_at_wavelengths(model, {sampling.wavelengths_nm[w[0]], sampling.wavelengths_nm[w[1]],
+                                                                      sampling.wavelengths_nm[w[2]]}));
   }
-  const Reference& geometry = refs.front();  // radii, density profiles, phase and sun disk: the same in every group
-  // A group's values (per unit sun at each of its wavelengths) to linear sRGB.
+  std::vector<Reference> refs;
+  for (const AtmosphereModel& m : path_models) refs.emplace_back(m);
+  // A path group's values (per unit sun at each of its wavelengths) to linear sRGB.
   const auto group_rgb = [&](int g, const glm::dvec3& v) {
-    const size_t w = size_t(g) * 3;
-    return sampling.weights[w] * v.x + sampling.weights[w + 1] * v.y + sampling.weights[w + 2] * v.z;
+    const std::array<size_t, 3>& w = path_index[size_t(g)];
+    return sampling.weights[w[0]] * v.x + sampling.weights[w[1]] * v.y + sampling.weights[w[2]] * v.z;
   };
 
   const size_t n = view.directions.size();

@@ -13,9 +13,12 @@
 //  - the single-scattering march integrates the column densities (Rayleigh,
 //    Mie, ozone: independent of wavelength) along the view ray and the nested
 //    sun rays once, and turns them into every group's optical depths;
-//  - each path of the path tracer carries one group (hero wavelengths; the
-//    spectral MIS over its three channels is the hero-wavelength MIS): path k
-//    of a pixel takes group (k + a per-pixel offset) mod G, weighted by G.
+//  - each path of the path tracer carries one group of three wavelengths (hero
+//    wavelengths; the spectral MIS over its three channels is the
+//    hero-wavelength MIS): path k of a pixel takes group (k + a per-pixel
+//    offset) mod G, weighted by G. The paths' groups interleave the sampling's
+//    wavelengths (group g: wavelengths g, g + G, g + 2G), so each path spans
+//    the spectrum.
 // The groups' radiance for a unit sun at every wavelength is combined into
 // linear sRGB with the sampling's weights, then scaled by sun_illuminance.
 // It runs as jobs (one pixel per element, a fixed seed per pixel: identical
