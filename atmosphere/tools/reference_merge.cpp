@@ -12,7 +12,7 @@ ReferenceLuminance merge_references(const std::vector<ReferenceLuminance>& refs,
   std::vector<double> weight(refs.size());
   for (size_t k = 0; k < refs.size(); ++k) {
     const ReferenceLuminance& r = refs[k];
-    if (r.luminance.size() != n || r.noise.size() != n)
+    if (r.luminance.size() != n || r.noise.size() != n || (!r.color.empty() && r.color.size() != 3 * n))
       throw InputError(what, "references of different sizes cannot be merged");
     for (size_t j = 0; j < k; ++j)
       if (refs[j].luminance == r.luminance)
@@ -30,6 +30,9 @@ ReferenceLuminance merge_references(const std::vector<ReferenceLuminance>& refs,
   ReferenceLuminance out;
   out.luminance.resize(n);
   out.noise.resize(n);
+  bool colors = true;
+  for (const ReferenceLuminance& r : refs) colors = colors && !r.color.empty();
+  if (colors) out.color.resize(3 * n);
   for (size_t i = 0; i < n; ++i) {
     double y = 0.0, var = 0.0;
     for (size_t k = 0; k < refs.size(); ++k) {
@@ -39,6 +42,11 @@ ReferenceLuminance merge_references(const std::vector<ReferenceLuminance>& refs,
     }
     out.luminance[i] = float(y);
     out.noise[i] = float(std::sqrt(var));
+    for (size_t c = 0; colors && c < 3; ++c) {
+      double v = 0.0;
+      for (size_t k = 0; k < refs.size(); ++k) v += weight[k] / total * refs[k].color[3 * i + c];
+      out.color[3 * i + c] = float(v);
+    }
   }
   return out;
 }

@@ -13,8 +13,10 @@ namespace cr {
 struct ReferenceLuminance {
   std::vector<float> luminance;
   std::vector<float> noise;  // standard error of the luminance, per pixel
+  std::vector<float> color;  // linear R, G, B per pixel (interleaved), or empty; merged by the same weights
 };
 
+// The colours are merged when every reference has them (else the result has none).
 // Throws InputError (naming `what`) when the sizes differ or two references
 // are the same image (rendered with the same seed: no independent samples).
 ReferenceLuminance merge_references(const std::vector<ReferenceLuminance>& refs, const std::string& what);

@@ -1,9 +1,12 @@
 #include "atmosphere/tools/reference_renderer.h"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
+#include <stdexcept>
 
+#include "atmosphere/model_spectrum.h"
 #include "engine/core/luminance.h"
 #include "engine/core/math_constants.h"
 #include "engine/shading/phase_functions.h"
@@ -98,31 +101,62 @@ class Reference {
     return glm::exp(-optical_depth(x, dir, s.t0, s.t1));
   }
 
-  // Sunlight reaching x: transmittance times the visible fraction of the sun
-  // disk (the same smooth shadow edge as the LUT method).
-  glm::dvec3 sun(const glm::dvec3& x, const glm::dvec3& s) const {
+  // Relative densities (1 at the ground; ozone: at the tent's peak), the same for every wavelength.
+  glm::dvec3 densities(double h) const {
+    h = std::max(h, 0.0);
+    return {std::exp(-h / m_.rayleigh_scale_height), std::exp(-h / m_.mie_scale_height),
+            std::max(0.0, 1.0 - std::abs(h - m_.ozone_center) / m_.ozone_half_width)};
+  }
+  // Column densities (Rayleigh, Mie, ozone; m) along [t0, t1], by the same steps as optical_depth.
+  glm::dvec3 column(const glm::dvec3& o, const glm::dvec3& d, double t0, double t1) const {
+    glm::dvec3 col(0.0);
+    double t = t0;
+    while (t < t1) {
+      const double ds = std::min(step(altitude(o + t * d)), t1 - t);
+      col += densities(altitude(o + (t + 0.5 * ds) * d)) * ds;
+      t += ds;
+    }
+    return col;
+  }
+
+  // The ray towards the sun from x: the visible fraction of the sun disk (the
+  // same smooth shadow edge as the LUT method) and the span it crosses.
+  struct SunRay {
+    double visible = 0.0;
+    glm::dvec3 dir{0.0};
+    Span span;
+  };
+  SunRay sun_ray(const glm::dvec3& x, const glm::dvec3& s) const {
+    SunRay ray;
     const double r = glm::length(x);
     const glm::dvec3 up = x / r;
     const double mu = glm::dot(up, s);
     const double mu_h = -std::sqrt(std::max(0.0, 1.0 - (R_ / r) * (R_ / r)));
     const double pen = std::sin(double(m_.sun_angular_radius)) * (R_ / r);
     const double above = mu - mu_h;
-    if (above <= -pen) return glm::dvec3(0.0);
-    double vis = 1.0;
-    glm::dvec3 dir = s;
+    if (above <= -pen) return ray;
+    ray.visible = 1.0;
+    ray.dir = s;
     if (above < pen) {
       const double f = (above + pen) / (2.0 * pen);
-      vis = f * f * (3.0 - 2.0 * f);
+      ray.visible = f * f * (3.0 - 2.0 * f);
       if (mu < mu_h + 1e-9) {  // the disk centre is below the horizon: use the grazing ray
         glm::dvec3 hz = s - mu * up;
         const double len = glm::length(hz);
         hz = len > 0.0 ? hz / len : glm::dvec3(1.0, 0.0, 0.0);
-        dir = (mu_h + 1e-9) * up + std::sqrt(std::max(0.0, 1.0 - (mu_h + 1e-9) * (mu_h + 1e-9))) * hz;
+        ray.dir = (mu_h + 1e-9) * up + std::sqrt(std::max(0.0, 1.0 - (mu_h + 1e-9) * (mu_h + 1e-9))) * hz;
       }
     }
-    const Span sp = span(x, dir);
-    if (!sp.valid) return glm::dvec3(vis);
-    return vis * glm::exp(-optical_depth(x, dir, sp.t0, sp.t1));
+    ray.span = span(x, ray.dir);
+    return ray;
+  }
+
+  // Sunlight reaching x: transmittance times the visible fraction of the sun disk.
+  glm::dvec3 sun(const glm::dvec3& x, const glm::dvec3& s) const {
+    const SunRay ray = sun_ray(x, s);
+    if (ray.visible <= 0.0) return glm::dvec3(0.0);
+    if (!ray.span.valid) return glm::dvec3(ray.visible);
+    return ray.visible * glm::exp(-optical_depth(x, ray.dir, ray.span.t0, ray.span.t1));
   }
 
   double phase_mie(double c) const {
@@ -160,34 +194,78 @@ glm::dvec3 around(const glm::dvec3& axis, double cos_t, double phi) {
 double mean(const glm::dvec3& v) { return (v.x + v.y + v.z) / 3.0; }
 double max_component(const glm::dvec3& v) { return std::max(v.x, std::max(v.y, v.z)); }
 
-// Single scattering plus the directly seen sunlit ground, deterministic.
-glm::dvec3 single_scattering(const Reference& ref, glm::dvec3 o, const glm::dvec3& d, const glm::dvec3& s,
-                             const glm::dvec3& e) {
+// One group's coefficients (/m at the ground or the ozone peak), per channel.
+struct GroupCoefficients {
+  glm::dvec3 rayleigh, mie, mie_extinction, ozone, albedo;
+  explicit GroupCoefficients(const AtmosphereModel& m)
+      : rayleigh(m.rayleigh_scattering),
+        mie(m.mie_scattering),
+        mie_extinction(glm::dvec3(m.mie_scattering) + glm::dvec3(m.mie_absorption)),
+        ozone(m.ozone_absorption),
+        albedo(m.ground_albedo) {}
+  // Extinction (or optical depth) from densities (or column densities).
+  glm::dvec3 extinction(const glm::dvec3& dens) const {
+    return rayleigh * dens.x + mie_extinction * dens.y + ozone * dens.z;
+  }
+};
+
+// Sunlight reaching a point, per group: the visible fraction of the disk times
+// each group's transmittance through the column.
+struct SunColumn {
+  double visible = 0.0;
+  glm::dvec3 column{0.0};
+  glm::dvec3 at(const GroupCoefficients& k) const {
+    return visible > 0.0 ? visible * glm::exp(-k.extinction(column)) : glm::dvec3(0.0);
+  }
+};
+
+SunColumn sun_column(const Reference& ref, const glm::dvec3& x, const glm::dvec3& s) {
+  SunColumn c;
+  const Reference::SunRay ray = ref.sun_ray(x, s);
+  c.visible = ray.visible;
+  if (ray.visible > 0.0 && ray.span.valid) c.column = ref.column(x, ray.dir, ray.span.t0, ray.span.t1);
+  return c;
+}
+
+// Single scattering plus the directly seen sunlit ground, deterministic, for a
+// unit sun in every channel of every group (`l`: one value per group). The
+// geometry (the view march and each step's nested sun march) is done once:
+// column densities, turned into each group's optical depths.
+void single_scattering(const Reference& ref, const std::vector<GroupCoefficients>& groups, const glm::dvec3& o,
+                       const glm::dvec3& d, const glm::dvec3& s, std::vector<glm::dvec3>& l) {
+  const size_t g_count = groups.size();
+  l.assign(g_count, glm::dvec3(0.0));
   const Reference::Span sp = ref.span(o, d);
-  if (!sp.valid) return glm::dvec3(0.0);
+  if (!sp.valid) return;
   const double nu = glm::dot(d, s);
   const double pr = rayleigh_phase(nu), pm = ref.phase_mie(nu);
-  glm::dvec3 l(0.0), throughput(1.0);
+  std::vector<glm::dvec3> throughput(g_count, glm::dvec3(1.0));
   double t = sp.t0;
   while (t < sp.t1) {
     const double ds = std::min(Reference::step(ref.altitude(o + t * d)), sp.t1 - t);
     const glm::dvec3 x = o + (t + 0.5 * ds) * d;
-    const Medium med = ref.medium(ref.altitude(x));
-    const glm::dvec3 sun = ref.sun(x, s);
-    const glm::dvec3 source = (med.rayleigh * pr + med.mie * pm) * sun;
-    glm::dvec3 seg;
-    for (int c = 0; c < 3; ++c)
-      seg[c] = med.extinction[c] > 0.0 ? -std::expm1(-med.extinction[c] * ds) / med.extinction[c] : ds;
-    l += throughput * source * seg;
-    throughput *= glm::exp(-med.extinction * ds);
+    const glm::dvec3 dens = ref.densities(ref.altitude(x));
+    const SunColumn sun = sun_column(ref, x, s);
+    for (size_t g = 0; g < g_count; ++g) {
+      const GroupCoefficients& k = groups[g];
+      const glm::dvec3 extinction = k.extinction(dens);
+      const glm::dvec3 source = (k.rayleigh * dens.x * pr + k.mie * dens.y * pm) * sun.at(k);
+      glm::dvec3 seg;
+      for (int c = 0; c < 3; ++c)
+        seg[c] = extinction[c] > 0.0 ? -std::expm1(-extinction[c] * ds) / extinction[c] : ds;
+      l[g] += throughput[g] * source * seg;
+      throughput[g] *= glm::exp(-extinction * ds);
+    }
     t += ds;
   }
   if (sp.ground) {
     const glm::dvec3 xg = o + sp.t1 * d;
     const glm::dvec3 n = glm::normalize(xg);
-    l += throughput * glm::dvec3(ref.m_.ground_albedo) / kPiD * ref.sun(xg, s) * std::max(0.0, glm::dot(n, s));
+    const SunColumn sun = sun_column(ref, xg, s);
+    const double cos_sun = std::max(0.0, glm::dot(n, s));
+    for (size_t g = 0; g < g_count; ++g)
+      l[g] += throughput[g] * groups[g].albedo / kPiD * sun.at(groups[g]) * cos_sun;
   }
-  return l * e;
 }
 
 // Continues a path leaving `pos` along `dir` with `throughput`; `vertex` is the
@@ -339,7 +417,46 @@ glm::dvec3 reference_transmittance(const AtmosphereModel& model, const glm::dvec
 ReferenceImage render_reference(const AtmosphereModel& model, const ReferenceView& view,
                                 const ReferenceSettings& settings, JobSystem& jobs,
                                 const std::function<void(size_t, size_t)>& progress) {
-  const Reference ref(model);
+  const SpectralSampling& sampling = settings.sampling;
+  const int g_count = sampling.groups();
+  if (g_count < 1 || sampling.wavelengths_nm.size() != size_t(g_count) * 3 ||
+      sampling.weights.size() != sampling.wavelengths_nm.size())
+    throw std::invalid_argument("render_reference: the sampling needs wavelengths in groups of three, one weight each");
+  // One model per group (the RGB sampling: the model itself); the Reference
+  // objects refer to these, so the vector is complete before they are made.
+  std::vector<AtmosphereModel> models;
+  for (int g = 0; g < g_count; ++g) {
+    const size_t w = size_t(g) * 3;
+    models.push_back(sampling.rgb ? model
+                                  : model_at_wavelengths(model, {sampling.wavelengths_nm[w], sampling.wavelengths_nm[w + 1],
+                                                                 sampling.wavelengths_nm[w + 2]}));
+  }
+  std::vector<GroupCoefficients> coefficients;
+  for (const AtmosphereModel& m : models) coefficients.emplace_back(m);
+  const Reference geometry(models.front());  // radii, density profiles, phase and sun disk: the same in every group
+  // The paths' groups interleave the wavelengths: path group g holds the
+  // sampling's wavelengths g, g + G and g + 2G. Over a sampling ordered by
+  // wavelength each path then spans the spectrum (its three channels add up to
+  // a colour, not a narrow band whose sRGB weights are partly negative), which
+  // keeps the paths' colour and luminance noise low. The RGB sampling (G = 1)
+  // keeps its own channels.
+  std::vector<std::array<size_t, 3>> path_index(static_cast<size_t>(g_count));
+  std::vector<AtmosphereModel> path_models;
+  for (int g = 0; g < g_count; ++g) {
+    for (size_t c = 0; c < 3; ++c) path_index[size_t(g)][c] = size_t(g) + c * size_t(g_count);
+    const std::array<size_t, 3>& w = path_index[size_t(g)];
+    path_models.push_back(sampling.rgb ? model
+                                       : model_at_wavelengths(model, {sampling.wavelengths_nm[w[0]], sampling.wavelengths_nm[w[1]],
+                                                                      sampling.wavelengths_nm[w[2]]}));
+  }
+  std::vector<Reference> refs;
+  for (const AtmosphereModel& m : path_models) refs.emplace_back(m);
+  // A path group's values (per unit sun at each of its wavelengths) to linear sRGB.
+  const auto group_rgb = [&](int g, const glm::dvec3& v) {
+    const std::array<size_t, 3>& w = path_index[size_t(g)];
+    return sampling.weights[w[0]] * v.x + sampling.weights[w[1]] * v.y + sampling.weights[w[2]] * v.z;
+  };
+
   const size_t n = view.directions.size();
   ReferenceImage out;
   out.radiance.assign(n, glm::vec3(0.0f));
@@ -349,30 +466,72 @@ ReferenceImage render_reference(const AtmosphereModel& model, const ReferenceVie
   if (r < model.bottom_radius + 0.01) o = o / r * (model.bottom_radius + 0.01);  // below the ground: clamp
   const glm::dvec3 s = glm::normalize(glm::dvec3(view.sun_direction));
   const glm::dvec3 e(view.sun_illuminance);
+  const glm::dvec3 unit_sun(1.0);
   std::atomic<size_t> done{0};
   const size_t grain = 64;
   jobs.parallel_for("atmosphere.reference", n, grain, [&](size_t begin, size_t end) {
+    std::vector<glm::dvec3> groups;
+    const size_t gs = size_t(g_count);
+    std::vector<glm::dvec3> group_sum(gs);
+    std::vector<double> group_y(gs), group_y_sq(gs);
+    std::vector<int> group_paths(gs);
     for (size_t i = begin; i < end; ++i) {
       const glm::dvec3 d = glm::normalize(glm::dvec3(view.directions[i]));
       glm::dvec3 l(0.0);
-      if (settings.single_scattering) l += single_scattering(ref, o, d, s, e);
+      if (settings.single_scattering) {
+        single_scattering(geometry, coefficients, o, d, s, groups);
+        l += to_rgb(sampling, groups) * e;
+      }
       if (settings.multiple_scattering && settings.samples_per_pixel > 0) {
-        glm::dvec3 sum(0.0);
-        double y_sum = 0.0, y_sq = 0.0;
+        // Path k takes group (k + offset) mod G, weighted by G: the groups are
+        // stratified over the pixel's paths, the offset (from the pixel's seed)
+        // makes each group's share unbiased when G does not divide the paths.
+        std::fill(group_sum.begin(), group_sum.end(), glm::dvec3(0.0));
+        std::fill(group_y.begin(), group_y.end(), 0.0);
+        std::fill(group_y_sq.begin(), group_y_sq.end(), 0.0);
+        std::fill(group_paths.begin(), group_paths.end(), 0);
+        Rng pixel_rng{settings.seed * 0x9E3779B97F4A7C15ull ^ (uint64_t(i) * 0xD1B54A32D192ED03ull)};
+        const int offset = g_count > 1 ? int(pixel_rng.next_u64() % uint64_t(g_count)) : 0;
         const int spp = settings.samples_per_pixel;
         for (int k = 0; k < spp; ++k) {
+          const int g = (k + offset) % g_count;
           Rng rng{settings.seed * 0x100000001B3ull ^ (uint64_t(i) << 20) ^ uint64_t(k)};
           rng.next_u64();
-          const glm::dvec3 p = multiple_scattering_path(ref, o, d, s, e, settings.max_bounces, rng);
-          const double y = luminance(p);
-          sum += p;
-          y_sum += y;
-          y_sq += y * y;
+          const glm::dvec3 p = multiple_scattering_path(refs[size_t(g)], o, d, s, unit_sun, settings.max_bounces, rng);
+          const glm::dvec3 c = group_rgb(g, p) * double(g_count) * e;
+          const double y = luminance(c);
+          group_sum[size_t(g)] += c;
+          group_y[size_t(g)] += y;
+          group_y_sq[size_t(g)] += y * y;
+          ++group_paths[size_t(g)];
         }
+        glm::dvec3 sum(0.0);
+        for (int g = 0; g < g_count; ++g) sum += group_sum[size_t(g)];
         l += sum / double(spp);
-        const double y_mean = y_sum / spp;
-        const double var = spp > 1 ? std::max(0.0, (y_sq / spp - y_mean * y_mean) * spp / (spp - 1)) : 0.0;
-        out.noise[i] = float(std::sqrt(var / spp));
+        // The standard error of the stratified estimate: each group's sample
+        // variance, weighted by its paths (one group: the plain sample variance).
+        // A group with a single path has no variance of its own: then the
+        // variance of all paths together stands in (an upper bound).
+        bool stratified = true;
+        for (int g = 0; g < g_count; ++g) stratified = stratified && group_paths[size_t(g)] != 1;
+        double var_sum = 0.0;
+        if (stratified) {
+          for (int g = 0; g < g_count; ++g) {
+            const int m = group_paths[size_t(g)];
+            if (m < 2) continue;
+            const double y_mean = group_y[size_t(g)] / m;
+            var_sum += std::max(0.0, (group_y_sq[size_t(g)] / m - y_mean * y_mean) * m / (m - 1)) * m;
+          }
+        } else if (spp > 1) {
+          double y_sum = 0.0, y_sq = 0.0;
+          for (int g = 0; g < g_count; ++g) {
+            y_sum += group_y[size_t(g)];
+            y_sq += group_y_sq[size_t(g)];
+          }
+          const double y_mean = y_sum / spp;
+          var_sum = std::max(0.0, (y_sq / spp - y_mean * y_mean) * spp / (spp - 1)) * spp;
+        }
+        out.noise[i] = float(std::sqrt(var_sum) / spp);
       }
       out.radiance[i] = glm::vec3(l);
     }

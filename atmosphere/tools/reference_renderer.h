@@ -7,6 +7,20 @@
 //    sampling (Henyey-Greenstein mixture), Lambertian ground bounces with the
 //    albedo, next-event estimation of the sun at every vertex after the first
 //    (the first is the single-scattering term), Russian roulette.
+// Across the spectrum (ReferenceSettings::sampling, spectral_sampling.h) the
+// wavelengths run in groups of three, each group with the model moved to its
+// wavelengths (model_spectrum.h):
+//  - the single-scattering march integrates the column densities (Rayleigh,
+//    Mie, ozone: independent of wavelength) along the view ray and the nested
+//    sun rays once, and turns them into every group's optical depths;
+//  - each path of the path tracer carries one group of three wavelengths (hero
+//    wavelengths; the spectral MIS over its three channels is the
+//    hero-wavelength MIS): path k of a pixel takes group (k + a per-pixel
+//    offset) mod G, weighted by G. The paths' groups interleave the sampling's
+//    wavelengths (group g: wavelengths g, g + G, g + 2G), so each path spans
+//    the spectrum.
+// The groups' radiance for a unit sun at every wavelength is combined into
+// linear sRGB with the sampling's weights, then scaled by sun_illuminance.
 // It runs as jobs (one pixel per element, a fixed seed per pixel: identical
 // for any thread count) and reports progress.
 #include <cstdint>
@@ -16,6 +30,7 @@
 #include <glm/glm.hpp>
 
 #include "atmosphere/atmosphere_model.h"
+#include "atmosphere/spectral_sampling.h"
 #include "engine/core/job_system.h"
 
 namespace cr {
@@ -26,6 +41,9 @@ struct ReferenceSettings {
   uint64_t seed = 1;
   bool single_scattering = true;
   bool multiple_scattering = true;
+  // The wavelengths and their sRGB weights: rgb_sampling() is the model's own
+  // three channels; reference_sampling() the full-spectral reference (47 bands).
+  SpectralSampling sampling = rgb_sampling();
 };
 
 struct ReferenceView {
