@@ -109,27 +109,31 @@ ReferenceLuminance read_references(const std::vector<std::string>& dirs, const s
   return merge_references(refs, file);
 }
 
-// The twilight colour errors: mean over the scored pixels of
-// |(r/g)_lut / (r/g)_ref - 1| and of the same for b/g (pixels whose green is
-// not positive in either image are left out).
+// The twilight colour errors: the mean over the scored pixels of
+// |(r/g)_lut / (r/g)_ref - 1|, and of the same for b/g, weighted by the
+// reference luminance: a ratio of two dim channels is dominated by the
+// reference's noise (and the deep-blue twilight zenith has almost no red),
+// while the bright sky is what the eye judges the colour by. Pixels whose
+// green is not positive in either image are left out.
 struct ColorRatioError {
   double rg = 0.0, bg = 0.0;
 };
 ColorRatioError color_ratio_error(const std::vector<glm::vec3>& lut, const std::vector<float>& ref_rgb,
                                   const std::vector<float>& ref_y, const std::vector<bool>& sky, double floor) {
   ColorRatioError e;
-  size_t count = 0;
+  double weight = 0.0;
   for (size_t i = 0; i < lut.size(); ++i) {
     if (!sky[i] || !(ref_y[i] >= floor) || !(ref_y[i] > 0.0f)) continue;
     const double rr = ref_rgb[3 * i], rg = ref_rgb[3 * i + 1], rb = ref_rgb[3 * i + 2];
-    if (!(rg > 0.0) || !(lut[i].g > 0.0f)) continue;
-    e.rg += std::abs((lut[i].r / lut[i].g) / (rr / rg) - 1.0);
-    e.bg += std::abs((lut[i].b / lut[i].g) / (rb / rg) - 1.0);
-    ++count;
+    if (!(rg > 0.0) || !(lut[i].g > 0.0f) || !(rr > 0.0) || !(rb > 0.0)) continue;
+    const double y = ref_y[i];
+    e.rg += y * std::abs((lut[i].r / lut[i].g) / (rr / rg) - 1.0);
+    e.bg += y * std::abs((lut[i].b / lut[i].g) / (rb / rg) - 1.0);
+    weight += y;
   }
-  if (count > 0) {
-    e.rg /= double(count);
-    e.bg /= double(count);
+  if (weight > 0.0) {
+    e.rg /= weight;
+    e.bg /= weight;
   }
   return e;
 }
@@ -156,7 +160,7 @@ const char* const kAccuracyDescription =
     "              scored pixels) and bias = sqrt(rms_error^2 - rms_noise^2), the error the noise does not\n"
     "              explain; \"within ref noise\" when rms_error <= 1.2 rms_noise;\n"
     "  rg_err, bg_err  the colour-ratio errors: mean over the scored pixels of |(r/g)_lut / (r/g)_ref - 1|\n"
-    "              and the same for b/g;\n"
+    "              and of the same for b/g, weighted by the reference luminance;\n"
     "  all_mean    the same mean over every pixel (ground below the horizon included);\n"
     "  lut_ms, ref_ms  the time of each (ref_ms 0 with --reference).\n"
     "A missed case whose unexplained error is over 3% and 3x the noise is marked biased (more paths would\n"
@@ -212,7 +216,7 @@ int sky_accuracy_command(const std::vector<std::string>& args) {
   AtmosphereSettings full = setup.settings;
   full.full_schedule = true;
   // The sun of the solar spectrum, for the LUTs and the reference alike.
-  const glm::vec3 e(solar_color() * solar_illuminance_lux());
+  const glm::vec3 e = solar_sun_illuminance();
 
   if (stored.empty())
     std::printf("sky-accuracy: preset %s, %dx%d panorama, %s reference, %d paths/pixel, %u threads\n",

@@ -8,14 +8,15 @@
 #include <vector>
 
 #include "atmosphere/atmosphere_settings.h"
-#include "engine/core/colorimetry.h"
 #include "atmosphere/model_spectrum.h"
 #include "atmosphere/reference_atmosphere.h"
 #include "atmosphere/sky_composite.h"
 #include "atmosphere/spectral_sampling.h"
 #include "atmosphere_test_util.h"
+#include "engine/core/colorimetry.h"
 #include "engine/core/error.h"
 #include "engine/core/luminance.h"
+#include "engine/scene/scene_description.h"
 
 using namespace cr;
 using namespace cr::test;
@@ -145,4 +146,15 @@ TEST_CASE("spectral_samples: 3 or a multiple of 3, up to 48") {
   CHECK_THROWS_AS(parse(4), InputError);
   CHECK_THROWS_AS(parse(0), InputError);
   CHECK_THROWS_AS(parse(51), InputError);
+}
+
+TEST_CASE("Earth's defaults: Mie extinction 4.44e-6 at albedo 0.9, and the sun of the solar spectrum") {
+  const AtmosphereModel earth = atmosphere_preset("earth-clear");
+  CHECK(earth.mie_scattering.g + earth.mie_absorption.g == doctest::Approx(4.44e-6).epsilon(1e-6));
+  CHECK(earth.mie_absorption.g == doctest::Approx(0.444e-6).epsilon(1e-6));
+  CHECK(earth.mie_scattering.g / (earth.mie_scattering.g + earth.mie_absorption.g) == doctest::Approx(0.9).epsilon(1e-6));
+  const SunSpec sun;
+  CHECK(sun.illuminance == doctest::Approx(solar_illuminance_lux()).epsilon(1e-6));
+  CHECK(sun.illuminance == doctest::Approx(133182.0).epsilon(1e-4));
+  for (int c = 0; c < 3; ++c) CHECK(sun.color[c] == doctest::Approx(solar_color()[c]).epsilon(1e-6));
 }
