@@ -89,11 +89,11 @@ void AerialPerspectiveLut::bake(size_t begin, size_t end, const AtmosphereLuts& 
 }
 
 void AerialPerspectiveLut::mix_from(const std::vector<const AerialPerspectiveLut*>& groups,
-                                    const SpectralSampling& sampling) {
+                                    const SpectralSampling& sampling, JobSystem& jobs) {
   const size_t n = luminance_.count();
-  mix_image(luminance_.texels.data(), n, groups, sampling,
+  mix_image(luminance_.texels.data(), n, groups, sampling, jobs,
             [](const AerialPerspectiveLut& l) -> const LutImage& { return l.luminance_; }, 0.0f);
-  mix_image(transmittance_.texels.data(), n, groups, sampling,
+  mix_image(transmittance_.texels.data(), n, groups, sampling, jobs,
             [](const AerialPerspectiveLut& l) -> const LutImage& { return l.transmittance_; }, 0.0f, 1.0f);
   const int w = luminance_.width, h = luminance_.height;
   for (int z = 0; z < luminance_.depth; ++z)

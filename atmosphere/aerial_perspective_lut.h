@@ -16,6 +16,8 @@
 
 namespace cr {
 
+class JobSystem;
+
 // The camera a froxel volume was built for, in planet-centred coordinates.
 struct FroxelCamera {
   glm::dvec3 position{0.0};  // relative to the planet centre
@@ -71,7 +73,8 @@ class AerialPerspectiveLut {
   void quantize_q15();
   // Both images from the LUTs of a spectral sampling's groups (spectral_mix.h),
   // built with the same arguments; luminance clipped at 0, transmittance to [0, 1].
-  void mix_from(const std::vector<const AerialPerspectiveLut*>& groups, const SpectralSampling& sampling);
+  void mix_from(const std::vector<const AerialPerspectiveLut*>& groups, const SpectralSampling& sampling,
+                JobSystem& jobs);
   bool quantized() const { return !packed_q15_.empty(); }
   const std::vector<FroxelTexelQ15>& packed_q15() const { return packed_q15_; }
   const Q15Scale& luminance_scale() const { return luminance_scale_; }

@@ -277,7 +277,7 @@ void LutScheduler::run(LutKind kind, const AtmospherePlan& plan, JobSystem& jobs
         published = slot.back[0];
       } else {
         published = mixed();
-        published->mix_from(raw(slot.back), sampling_);
+        published->mix_from(raw(slot.back), sampling_, jobs);
       }
       if (s.lut_precision == LutPrecision::Q15) published->quantize_q15();
     }

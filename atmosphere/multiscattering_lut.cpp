@@ -490,13 +490,14 @@ float MultiScatteringLut::max_fms_seen() const {
 }
 
 void MultiScatteringLut::mix_from(const std::vector<const MultiScatteringLut*>& groups,
-                                  const SpectralSampling& sampling) {
+                                  const SpectralSampling& sampling, JobSystem& jobs) {
   const size_t n = image_.count();
-  mix_image(image_.texels.data(), n, groups, sampling, [](const MultiScatteringLut& l) -> const LutImage& { return l.image_; },
+  mix_image(image_.texels.data(), n, groups, sampling, jobs,
+            [](const MultiScatteringLut& l) -> const LutImage& { return l.image_; },
             0.0f);
   for (size_t i = 0; i < n; ++i) std::memcpy(&packed_[4 * i], &image_.texels[i], sizeof(glm::vec3));
   for (size_t k = 0; k < moment_images_.size(); ++k) {
-    mix_image(moment_images_[k].texels.data(), n, groups, sampling,
+    mix_image(moment_images_[k].texels.data(), n, groups, sampling, jobs,
               [k](const MultiScatteringLut& l) -> const LutImage& { return l.moment_images_[k]; });
     for (size_t i = 0; i < n; ++i)
       std::memcpy(&moments_[(k * n + i) * 4], &moment_images_[k].texels[i], sizeof(glm::vec3));

@@ -34,6 +34,8 @@
 
 namespace cr {
 
+class JobSystem;
+
 struct AltitudeMarch;
 
 // The sun zenith cosine axis, mu_s in [-1, 1] <-> unit x in [0, 1], in three
@@ -122,7 +124,8 @@ class MultiScatteringLut {
   // Psi and its moments from the LUTs of a spectral sampling's groups
   // (spectral_mix.h), built with the same arguments: Psi clipped at 0, the
   // signed moments not; a texel counts as clamped if any group's was.
-  void mix_from(const std::vector<const MultiScatteringLut*>& groups, const SpectralSampling& sampling);
+  void mix_from(const std::vector<const MultiScatteringLut*>& groups, const SpectralSampling& sampling,
+                JobSystem& jobs);
 
   const LutImage& image() const { return image_; }
   const float* packed() const { return packed_.data(); }  // the image as rgb + pad (see float4.h)

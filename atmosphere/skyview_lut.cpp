@@ -95,10 +95,13 @@ void SkyViewLut::bake(size_t begin, size_t end, const AtmosphereLuts& luts) {
   }
 }
 
-void SkyViewLut::mix_from(const std::vector<const SkyViewLut*>& groups, const SpectralSampling& sampling) {
-  mix_image(image_.texels.data(), image_.count(), groups, sampling, [](const SkyViewLut& l) -> const LutImage& { return l.image_; },
+void SkyViewLut::mix_from(const std::vector<const SkyViewLut*>& groups, const SpectralSampling& sampling,
+                          JobSystem& jobs) {
+  mix_image(image_.texels.data(), image_.count(), groups, sampling, jobs,
+            [](const SkyViewLut& l) -> const LutImage& { return l.image_; },
             0.0f);
-  mix_image(mie_.texels.data(), mie_.count(), groups, sampling, [](const SkyViewLut& l) -> const LutImage& { return l.mie_; },
+  mix_image(mie_.texels.data(), mie_.count(), groups, sampling, jobs,
+            [](const SkyViewLut& l) -> const LutImage& { return l.mie_; },
             0.0f);
   for (size_t i = 0; i < image_.count(); ++i) {
     const glm::vec3 r = image_.texels[i], m = mie_.texels[i];

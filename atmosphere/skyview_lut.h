@@ -23,6 +23,8 @@
 
 namespace cr {
 
+class JobSystem;
+
 struct SkyViewMapping {
   float zenith_horizon_angle = 0.0f;  // zenith angle of the horizon (> pi/2 above the ground)
   float beta = 0.0f;                  // angle between the horizon and the nadir
@@ -82,7 +84,7 @@ class SkyViewLut {
   void quantize_q15();
   // Both images from the LUTs of a spectral sampling's groups (spectral_mix.h),
   // built with the same arguments; clipped at 0.
-  void mix_from(const std::vector<const SkyViewLut*>& groups, const SpectralSampling& sampling);
+  void mix_from(const std::vector<const SkyViewLut*>& groups, const SpectralSampling& sampling, JobSystem& jobs);
   bool quantized() const { return !packed_q15_.empty(); }
   // sample() from the q15 texels in 16-bit integer arithmetic: both parts
   // lerped as 8 codes (u, then v: fx::lerp_q15 with q15 weights), then

@@ -133,8 +133,10 @@ void TransmittanceLut::bake(size_t begin, size_t end) {
   }
 }
 
-void TransmittanceLut::mix_from(const std::vector<const TransmittanceLut*>& groups, const SpectralSampling& sampling) {
-  mix_image(image_.texels.data(), image_.count(), groups, sampling, [](const TransmittanceLut& l) -> const LutImage& { return l.image_; },
+void TransmittanceLut::mix_from(const std::vector<const TransmittanceLut*>& groups, const SpectralSampling& sampling,
+                                JobSystem& jobs) {
+  mix_image(image_.texels.data(), image_.count(), groups, sampling, jobs,
+            [](const TransmittanceLut& l) -> const LutImage& { return l.image_; },
             0.0f, 1.0f);
   for (size_t i = 0; i < image_.count(); ++i) std::memcpy(&packed_[4 * i], &image_.texels[i], sizeof(glm::vec3));
 }

@@ -17,6 +17,8 @@
 
 namespace cr {
 
+class JobSystem;
+
 // The (altitude, mu) <-> unit square mapping of one planet.
 struct TransmittanceMapping {
   float ground_radius = 0.0f;
@@ -64,7 +66,7 @@ class TransmittanceLut {
   void quantize_q15();
   // The image from the LUTs of a spectral sampling's groups (spectral_mix.h),
   // same size and mapping, clipped to [0, 1]; this LUT's model is the RGB one.
-  void mix_from(const std::vector<const TransmittanceLut*>& groups, const SpectralSampling& sampling);
+  void mix_from(const std::vector<const TransmittanceLut*>& groups, const SpectralSampling& sampling, JobSystem& jobs);
 
   const LutImage& image() const { return image_; }
   const float* packed() const { return packed_.data(); }  // the image as rgb + pad (see float4.h)

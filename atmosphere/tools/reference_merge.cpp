@@ -12,7 +12,8 @@ ReferenceLuminance merge_references(const std::vector<ReferenceLuminance>& refs,
   std::vector<double> weight(refs.size());
   for (size_t k = 0; k < refs.size(); ++k) {
     const ReferenceLuminance& r = refs[k];
-    if (r.luminance.size() != n || r.noise.size() != n || (!r.color.empty() && r.color.size() != 3 * n))
+    if (r.luminance.size() != n || r.noise.size() != n || (!r.color.empty() && r.color.size() != 3 * n) ||
+        (!r.ratio_noise.empty() && r.ratio_noise.size() != 2 * n))
       throw InputError(what, "references of different sizes cannot be merged");
     for (size_t j = 0; j < k; ++j)
       if (refs[j].luminance == r.luminance)
@@ -33,6 +34,9 @@ ReferenceLuminance merge_references(const std::vector<ReferenceLuminance>& refs,
   bool colors = true;
   for (const ReferenceLuminance& r : refs) colors = colors && !r.color.empty();
   if (colors) out.color.resize(3 * n);
+  bool ratios = true;
+  for (const ReferenceLuminance& r : refs) ratios = ratios && !r.ratio_noise.empty();
+  if (ratios) out.ratio_noise.resize(2 * n);
   for (size_t i = 0; i < n; ++i) {
     double y = 0.0, var = 0.0;
     for (size_t k = 0; k < refs.size(); ++k) {
@@ -46,6 +50,14 @@ ReferenceLuminance merge_references(const std::vector<ReferenceLuminance>& refs,
       double v = 0.0;
       for (size_t k = 0; k < refs.size(); ++k) v += weight[k] / total * refs[k].color[3 * i + c];
       out.color[3 * i + c] = float(v);
+    }
+    for (size_t c = 0; ratios && c < 2; ++c) {
+      double v = 0.0;
+      for (size_t k = 0; k < refs.size(); ++k) {
+        const double w = weight[k] / total, s = refs[k].ratio_noise[2 * i + c];
+        v += w * w * s * s;
+      }
+      out.ratio_noise[2 * i + c] = float(std::sqrt(v));
     }
   }
   return out;

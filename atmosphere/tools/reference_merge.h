@@ -14,9 +14,11 @@ struct ReferenceLuminance {
   std::vector<float> luminance;
   std::vector<float> noise;  // standard error of the luminance, per pixel
   std::vector<float> color;  // linear R, G, B per pixel (interleaved), or empty; merged by the same weights
+  // Relative standard errors of r/g and b/g per pixel (interleaved), or empty; merged like the noise.
+  std::vector<float> ratio_noise;
 };
 
-// The colours are merged when every reference has them (else the result has none).
+// The colours (and ratio noises) are merged when every reference has them (else the result has none).
 // Throws InputError (naming `what`) when the sizes differ or two references
 // are the same image (rendered with the same seed: no independent samples).
 ReferenceLuminance merge_references(const std::vector<ReferenceLuminance>& refs, const std::string& what);

@@ -408,6 +408,53 @@ glm::dvec3 trace(const Reference& ref, glm::dvec3 pos, glm::dvec3 dir, glm::dvec
   return l;
 }
 
+// Second moments of a pixel's path estimates (linear sRGB and its luminance),
+// for the standard errors of its luminance and of its colour ratios.
+struct PathCovariance {
+  double yy = 0.0;
+  glm::dvec3 cc{0.0};  // r r, g g, b b
+  double rg = 0.0, bg = 0.0;
+  void add(const PathCovariance& o) {
+    yy += o.yy;
+    cc += o.cc;
+    rg += o.rg;
+    bg += o.bg;
+  }
+};
+
+struct PathMoments {
+  int paths = 0;
+  glm::dvec3 sum{0.0};
+  double y = 0.0;
+  PathCovariance sq;  // sums of the products
+  void add(const glm::dvec3& c) {
+    const double lum = luminance(c);
+    ++paths;
+    sum += c;
+    y += lum;
+    sq.add({lum * lum, c * c, c.r * c.g, c.b * c.g});
+  }
+  void merge(const PathMoments& o) {
+    paths += o.paths;
+    sum += o.sum;
+    y += o.y;
+    sq.add(o.sq);
+  }
+  // The sample covariances times the path count (0 below two paths).
+  PathCovariance covariance_times_paths() const {
+    if (paths < 2) return {};
+    const double m = paths, f = m / (m - 1.0);
+    const glm::dvec3 mean = sum / m;
+    const double y_mean = y / m;
+    PathCovariance c;
+    c.yy = std::max(0.0, (sq.yy / m - y_mean * y_mean) * f) * m;
+    c.cc = glm::max(glm::dvec3(0.0), (sq.cc / m - mean * mean) * f) * m;
+    c.rg = (sq.rg / m - mean.r * mean.g) * f * m;
+    c.bg = (sq.bg / m - mean.b * mean.g) * f * m;
+    return c;
+  }
+};
+
 }  // namespace
 
 glm::dvec3 reference_transmittance(const AtmosphereModel& model, const glm::dvec3& point, const glm::dvec3& dir) {
@@ -461,6 +508,7 @@ ReferenceImage render_reference(const AtmosphereModel& model, const ReferenceVie
   ReferenceImage out;
   out.radiance.assign(n, glm::vec3(0.0f));
   out.noise.assign(n, 0.0f);
+  out.ratio_noise.assign(n, glm::vec2(0.0f));
   glm::dvec3 o = view.origin;
   const double r = glm::length(o);
   if (r < model.bottom_radius + 0.01) o = o / r * (model.bottom_radius + 0.01);  // below the ground: clamp
@@ -472,9 +520,7 @@ ReferenceImage render_reference(const AtmosphereModel& model, const ReferenceVie
   jobs.parallel_for("atmosphere.reference", n, grain, [&](size_t begin, size_t end) {
     std::vector<glm::dvec3> groups;
     const size_t gs = size_t(g_count);
-    std::vector<glm::dvec3> group_sum(gs);
-    std::vector<double> group_y(gs), group_y_sq(gs);
-    std::vector<int> group_paths(gs);
+    std::vector<PathMoments> group_moments(gs);
     for (size_t i = begin; i < end; ++i) {
       const glm::dvec3 d = glm::normalize(glm::dvec3(view.directions[i]));
       glm::dvec3 l(0.0);
@@ -486,10 +532,7 @@ ReferenceImage render_reference(const AtmosphereModel& model, const ReferenceVie
         // Path k takes group (k + offset) mod G, weighted by G: the groups are
         // stratified over the pixel's paths, the offset (from the pixel's seed)
         // makes each group's share unbiased when G does not divide the paths.
-        std::fill(group_sum.begin(), group_sum.end(), glm::dvec3(0.0));
-        std::fill(group_y.begin(), group_y.end(), 0.0);
-        std::fill(group_y_sq.begin(), group_y_sq.end(), 0.0);
-        std::fill(group_paths.begin(), group_paths.end(), 0);
+        std::fill(group_moments.begin(), group_moments.end(), PathMoments{});
         Rng pixel_rng{settings.seed * 0x9E3779B97F4A7C15ull ^ (uint64_t(i) * 0xD1B54A32D192ED03ull)};
         const int offset = g_count > 1 ? int(pixel_rng.next_u64() % uint64_t(g_count)) : 0;
         const int spp = settings.samples_per_pixel;
@@ -498,40 +541,32 @@ ReferenceImage render_reference(const AtmosphereModel& model, const ReferenceVie
           Rng rng{settings.seed * 0x100000001B3ull ^ (uint64_t(i) << 20) ^ uint64_t(k)};
           rng.next_u64();
           const glm::dvec3 p = multiple_scattering_path(refs[size_t(g)], o, d, s, unit_sun, settings.max_bounces, rng);
-          const glm::dvec3 c = group_rgb(g, p) * double(g_count) * e;
-          const double y = luminance(c);
-          group_sum[size_t(g)] += c;
-          group_y[size_t(g)] += y;
-          group_y_sq[size_t(g)] += y * y;
-          ++group_paths[size_t(g)];
+          group_moments[size_t(g)].add(group_rgb(g, p) * double(g_count) * e);
         }
-        glm::dvec3 sum(0.0);
-        for (int g = 0; g < g_count; ++g) sum += group_sum[size_t(g)];
-        l += sum / double(spp);
-        // The standard error of the stratified estimate: each group's sample
-        // variance, weighted by its paths (one group: the plain sample variance).
-        // A group with a single path has no variance of its own: then the
-        // variance of all paths together stands in (an upper bound).
+        PathMoments all;
+        for (const PathMoments& m : group_moments) all.merge(m);
+        l += all.sum / double(spp);
+        // The covariance of the stratified estimate: each group's sample
+        // covariance, weighted by its paths (one group: the plain sample
+        // covariance). A group with a single path has none of its own: then the
+        // covariance of all paths together stands in (an upper bound).
         bool stratified = true;
-        for (int g = 0; g < g_count; ++g) stratified = stratified && group_paths[size_t(g)] != 1;
-        double var_sum = 0.0;
+        for (const PathMoments& m : group_moments) stratified = stratified && m.paths != 1;
+        PathCovariance cov;
         if (stratified) {
-          for (int g = 0; g < g_count; ++g) {
-            const int m = group_paths[size_t(g)];
-            if (m < 2) continue;
-            const double y_mean = group_y[size_t(g)] / m;
-            var_sum += std::max(0.0, (group_y_sq[size_t(g)] / m - y_mean * y_mean) * m / (m - 1)) * m;
-          }
-        } else if (spp > 1) {
-          double y_sum = 0.0, y_sq = 0.0;
-          for (int g = 0; g < g_count; ++g) {
-            y_sum += group_y[size_t(g)];
-            y_sq += group_y_sq[size_t(g)];
-          }
-          const double y_mean = y_sum / spp;
-          var_sum = std::max(0.0, (y_sq / spp - y_mean * y_mean) * spp / (spp - 1)) * spp;
+          for (const PathMoments& m : group_moments) cov.add(m.covariance_times_paths());
+        } else {
+          cov = all.covariance_times_paths();
         }
-        out.noise[i] = float(std::sqrt(var_sum) / spp);
+        const double inv = 1.0 / (double(spp) * double(spp));  // of the mean of spp paths
+        out.noise[i] = float(std::sqrt(std::max(0.0, cov.yy * inv)));
+        // First order: var(a/g) / (a/g)^2 = var(a)/a^2 + var(g)/g^2 - 2 cov(a, g)/(a g).
+        const auto ratio = [&](int a, double aa, double ag) {
+          if (!(l[a] > 0.0) || !(l.g > 0.0)) return 0.0f;
+          const double v = (aa / (l[a] * l[a]) + cov.cc.g / (l.g * l.g) - 2.0 * ag / (l[a] * l.g)) * inv;
+          return float(std::sqrt(std::max(0.0, v)));
+        };
+        out.ratio_noise[i] = glm::vec2(ratio(0, cov.cc.r, cov.rg), ratio(2, cov.cc.b, cov.bg));
       }
       out.radiance[i] = glm::vec3(l);
     }

@@ -56,6 +56,10 @@ struct ReferenceView {
 struct ReferenceImage {
   std::vector<glm::vec3> radiance;  // cd/m^2 per pixel
   std::vector<float> noise;         // standard error of the luminance (Monte-Carlo part) per pixel
+  // Relative standard errors of the pixel's r/g and b/g (first-order, from the
+  // paths' channel variances and covariances): a full-spectral path's colour is
+  // far noisier than its luminance (the sRGB weights of a band are partly negative).
+  std::vector<glm::vec2> ratio_noise;
 };
 
 // `progress(done, total)` is called from job threads after each chunk of 64 pixels (may be empty).

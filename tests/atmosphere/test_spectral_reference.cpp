@@ -151,3 +151,36 @@ TEST_CASE("spectral reference: 1 and 2 threads give identical bits") {
   CHECK(std::memcmp(one.radiance.data(), two.radiance.data(), one.radiance.size() * sizeof(glm::vec3)) == 0);
   CHECK(std::memcmp(one.noise.data(), two.noise.data(), one.noise.size() * sizeof(float)) == 0);
 }
+
+TEST_CASE("spectral reference: its colour-ratio noise predicts the scatter between two seeds") {
+  const AtmosphereModel m = atmosphere_preset("earth-clear");
+  std::vector<glm::vec3> dirs;
+  for (double az : {0.0, 60.0, 120.0, 180.0}) {
+    const std::vector<glm::vec3> d = directions({2.0, 10.0, 30.0, 60.0}, az);
+    dirs.insert(dirs.end(), d.begin(), d.end());
+  }
+  const ReferenceView v = view_at(m, 1.0, 60.0, dirs);
+  ReferenceSettings s;
+  s.sampling = reference_sampling();
+  s.samples_per_pixel = 96;
+  s.single_scattering = false;  // the paths alone: all of the noise, none of the deterministic light
+  JobSystem jobs(2);
+  const ReferenceImage a = render_reference(m, v, s, jobs, {});
+  s.seed = 2;
+  const ReferenceImage b = render_reference(m, v, s, jobs, {});
+  // Per pixel, (ratio_a / ratio_b - 1)^2 estimates noise_a^2 + noise_b^2; compared over the pixels.
+  glm::dvec2 scatter(0.0), predicted(0.0);
+  for (size_t i = 0; i < dirs.size(); ++i) {
+    const glm::vec3 x = a.radiance[i], y = b.radiance[i];
+    const glm::dvec2 d((x.r / x.g) / (y.r / y.g) - 1.0, (x.b / x.g) / (y.b / y.g) - 1.0);
+    scatter += d * d;
+    predicted += glm::dvec2(a.ratio_noise[i] * a.ratio_noise[i] + b.ratio_noise[i] * b.ratio_noise[i]);
+  }
+  const glm::dvec2 ratio = glm::sqrt(scatter / predicted);
+  MESSAGE("measured / predicted ratio scatter: r/g " << ratio.x << ", b/g " << ratio.y << " (predicted RMS r/g "
+                                                    << 100 * std::sqrt(predicted.x / double(dirs.size())) << "%)");
+  CHECK(ratio.x > 0.6);
+  CHECK(ratio.x < 1.6);
+  CHECK(ratio.y > 0.6);
+  CHECK(ratio.y < 1.6);
+}
