@@ -95,6 +95,10 @@ void AerialPerspectiveLut::mix_from(const std::vector<const AerialPerspectiveLut
             [](const AerialPerspectiveLut& l) -> const LutImage& { return l.luminance_; }, 0.0f);
   mix_image(transmittance_.texels.data(), n, groups, sampling, jobs,
             [](const AerialPerspectiveLut& l) -> const LutImage& { return l.transmittance_; }, 0.0f, 1.0f);
+  repack();
+}
+
+void AerialPerspectiveLut::repack() {
   const int w = luminance_.width, h = luminance_.height;
   for (int z = 0; z < luminance_.depth; ++z)
     for (int py = 0; py <= h; ++py)
@@ -113,19 +117,14 @@ void AerialPerspectiveLut::quantize_q15() {
   const Q15Scale unit;
   round_to_q15(l, n, 1, luminance_scale_);
   round_to_q15(t, n, 1, unit);
+  repack();
   packed_q15_.resize(packed_.size());
-  const int w = luminance_.width, h = luminance_.height;
-  for (int z = 0; z < luminance_.depth; ++z)
-    for (int py = 0; py <= h; ++py)
-      for (int px = 0; px <= w; ++px) {
-        const glm::vec3 lv = luminance_.at(std::min(px, w - 1), std::min(py, h - 1), z);
-        const glm::vec3 tv = transmittance_.at(std::min(px, w - 1), std::min(py, h - 1), z);
-        const size_t i = packed_index(px, py, z);
-        packed_[i] = {{lv.x, lv.y, lv.z, 0.0f}, {tv.x, tv.y, tv.z, 0.0f}};
-        packed_q15_[i] = {{to_q15(lv.x, luminance_scale_), to_q15(lv.y, luminance_scale_),
-                           to_q15(lv.z, luminance_scale_), 0},
-                          {to_q15(tv.x, unit), to_q15(tv.y, unit), to_q15(tv.z, unit), 0}};
-      }
+  for (size_t i = 0; i < packed_.size(); ++i) {
+    const float* lv = packed_[i].luminance;
+    const float* tv = packed_[i].transmittance;
+    packed_q15_[i] = {{to_q15(lv[0], luminance_scale_), to_q15(lv[1], luminance_scale_), to_q15(lv[2], luminance_scale_), 0},
+                      {to_q15(tv[0], unit), to_q15(tv[1], unit), to_q15(tv[2], unit), 0}};
+  }
 }
 
 }  // namespace cr

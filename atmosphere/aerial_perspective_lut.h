@@ -80,6 +80,8 @@ class AerialPerspectiveLut {
   const Q15Scale& luminance_scale() const { return luminance_scale_; }
 
  private:
+  void repack();  // packed() from the two images
+
   float km_per_slice_ = 4.0f;
   int steps_per_slice_ = 2;
   FroxelCamera camera_;
