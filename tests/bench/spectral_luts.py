@@ -3,9 +3,12 @@
 "spectral_samples" (3 = the RGB model; 6, 9, ... = bands over 380-780 nm baked in groups of three).
 
 A benchmark, not a test: not part of CI. Needs stored references (sky-accuracy --out, default 48x24
-panorama and cases), one directory per preset, e.g.
+panorama and cases) per preset, e.g.
   cpurender sky-accuracy --spp 4096 --out refs/earth-clear
+  cpurender sky-accuracy --spp 4096 --seed 2 --out refs/earth-clear-2
   cpurender sky-accuracy --preset reference --spp 4096 --out refs/reference
+and --refs earth-clear=refs/earth-clear,refs/earth-clear-2 --refs reference=refs/reference (several
+directories of one preset are merged, as sky-accuracy --reference does).
 
 For each sample count and preset it runs
   sky-accuracy --profile P --reference refs/PRESET   (error: mean / p95 luminance, r/g and b/g ratios)
@@ -17,8 +20,9 @@ where P is profiles/desktop.json with atmosphere.spectral_samples set, and write
   OUT/spectral_luts_cost.csv     one row per sample count
   OUT/spectral_luts.png / .svg   error against cost (with python3-matplotlib)
 
-usage: tests/bench/spectral_luts.py --refs DIR [--presets earth-clear,reference] [--samples 3,6,9,12,15]
+usage: tests/bench/spectral_luts.py --refs PRESET=DIR[,DIR...] [--refs ...] [--samples 3,6,9,12,15]
                                     [--build build] [--threads 2] [--repeat 5] [--out out/spectral]
+       tests/bench/spectral_luts.py --chart-only [--out out/spectral]
 """
 import argparse, csv, json, os, re, subprocess, sys, tempfile
 
@@ -63,12 +67,13 @@ def chart(rows, costs, presets, out):
     fig, axes = plt.subplots(1, 3, figsize=(15, 4.6))
     panels = [('mean luminance error, sun zenith 0-90 deg (worst case)', lambda r: r['zenith'] <= 90, 'mean', 2.0),
               ('mean luminance error, sun zenith 95 deg (worst case)', lambda r: r['zenith'] > 90, 'mean', 5.0),
-              ('r/g colour error, sun zenith 90-95 deg (worst case)', lambda r: r['zenith'] >= 90, 'rg', 3.0)]
+              ('colour error (r/g, b/g), sun zenith 90 deg (worst case)', lambda r: r['zenith'] == 90, 'color', 3.0)]
     for ax, (title, keep, key, target) in zip(axes, panels):
         for preset in presets:
             xs, ys, ns = [], [], []
             for n in sorted(costs):
-                sel = [r[key] for r in rows if r['samples'] == n and r['preset'] == preset and keep(r)]
+                sel = [max(r['rg'], r['bg']) if key == 'color' else r[key]
+                       for r in rows if r['samples'] == n and r['preset'] == preset and keep(r)]
                 if sel:
                     xs.append(costs[n]['path_ms'])
                     ys.append(max(sel))
@@ -91,19 +96,28 @@ def chart(rows, costs, presets, out):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split('\n')[0])
-    ap.add_argument('--refs', required=True, help='directory with one stored-reference directory per preset')
-    ap.add_argument('--presets', default='earth-clear,reference')
+    ap.add_argument('--refs', action='append', default=[], metavar='PRESET=DIR[,DIR...]',
+                    help='stored references of a preset (repeat per preset)')
     ap.add_argument('--samples', default='3,6,9,12,15')
     ap.add_argument('--build', default='build')
     ap.add_argument('--threads', type=int, default=2)
     ap.add_argument('--repeat', type=int, default=5)
     ap.add_argument('--out', default='out/spectral')
+    ap.add_argument('--chart-only', action='store_true', help='redraw the chart from the CSV files in --out')
     a = ap.parse_args()
     os.makedirs(a.out, exist_ok=True)
+    if a.chart_only:
+        rows = [dict(r, samples=int(r['samples']), **{k: float(r[k]) for k in r if k not in ('samples', 'preset')})
+                for r in csv.DictReader(open(os.path.join(a.out, 'spectral_luts.csv')))]
+        costs = {int(r['samples']): {k: float(v) for k, v in r.items() if k != 'samples'}
+                 for r in csv.DictReader(open(os.path.join(a.out, 'spectral_luts_cost.csv')))}
+        chart(rows, costs, list(dict.fromkeys(r['preset'] for r in rows)), a.out)
+        return
     cpurender = os.path.join(a.build, 'cpurender')
     root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
     base = json.load(open(os.path.join(root, 'profiles', 'desktop.json')))
-    presets = a.presets.split(',')
+    refs = dict(r.split('=', 1) for r in a.refs)
+    presets = list(refs)
     rows, costs = [], {}
     with tempfile.TemporaryDirectory() as tmp:
         for n in [int(s) for s in a.samples.split(',')]:
@@ -113,7 +127,7 @@ def main():
             json.dump(profile, open(path, 'w'))
             costs[n] = cost(cpurender, path, a.threads, a.repeat)
             for preset in presets:
-                for r in accuracy(cpurender, path, preset, os.path.join(a.refs, preset)):
+                for r in accuracy(cpurender, path, preset, refs[preset]):
                     rows.append(dict(samples=n, preset=preset, **r))
             c = costs[n]
             print(f"spectral_samples {n:2d}: full {c['full_ms']:.2f} ms, amortised {c['amortised_ms']:.3f} ms, "
