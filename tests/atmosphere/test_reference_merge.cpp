@@ -53,3 +53,18 @@ TEST_CASE("reference merge: the same image twice, different sizes, or nothing ar
   CHECK_THROWS_WITH_AS(merge_references({a, small}, "sun95.exr"), doctest::Contains("different sizes"), InputError);
   CHECK_THROWS_AS(merge_references({}, "sun95.exr"), InputError);
 }
+
+TEST_CASE("reference merge: colour-ratio noise merges like the luminance noise, and only when every reference has it") {
+  std::vector<float> truth(100, 5.0f);
+  ReferenceLuminance a = noisy(truth, 1, 1), b = noisy(truth, 3, 2);
+  a.ratio_noise.assign(2 * truth.size(), 0.2f);
+  b.ratio_noise.assign(2 * truth.size(), 0.1f);
+  const ReferenceLuminance m = merge_references({a, b}, "test");
+  // Weights 1/4 and 3/4 (by path count): sqrt((0.25 * 0.2)^2 + (0.75 * 0.1)^2).
+  REQUIRE(m.ratio_noise.size() == 2 * truth.size());
+  CHECK(m.ratio_noise[0] == doctest::Approx(std::sqrt(0.05 * 0.05 + 0.075 * 0.075)).epsilon(1e-5));
+  b.ratio_noise.clear();
+  CHECK(merge_references({a, b}, "test").ratio_noise.empty());
+  b.ratio_noise.assign(3, 0.1f);
+  CHECK_THROWS_AS(merge_references({a, b}, "test"), InputError);
+}
