@@ -52,6 +52,7 @@ bool ArgParser::parse(const std::vector<std::string>& args, size_t min_positiona
         }
         if (value.empty()) throw UsageError(command_ + ": --" + name + " needs a value (" + it->second.metavar + "), got ''");
         values_[name] = value;
+        every_value_[name].push_back(value);
       }
     } else {
       positional_.push_back(a);
@@ -68,6 +69,11 @@ bool ArgParser::has(const std::string& name) const {
   if (values_.count(name)) return true;
   auto it = specs_.find(name);
   return it != specs_.end() && it->second.default_value.has_value();
+}
+
+std::vector<std::string> ArgParser::get_all(const std::string& name) const {
+  auto v = every_value_.find(name);
+  return v == every_value_.end() ? std::vector<std::string>{} : v->second;
 }
 
 std::string ArgParser::get(const std::string& name) const {

@@ -23,7 +23,9 @@ class ArgParser {
 
   const std::vector<std::string>& positional() const { return positional_; }
   bool has(const std::string& name) const;  // option given or defaulted, or flag set
-  std::string get(const std::string& name) const;
+  std::string get(const std::string& name) const;  // the last value given
+  // Every value given for a repeatable option, in order (empty when none; defaults are not included).
+  std::vector<std::string> get_all(const std::string& name) const;
   // A comma-separated value split into its items ("png,exr" -> png, exr).
   std::vector<std::string> get_list(const std::string& name) const;
   int get_int(const std::string& name, int min, int max) const;
@@ -42,6 +44,7 @@ class ArgParser {
   std::vector<std::string> order_;
   std::map<std::string, Spec> specs_;
   std::map<std::string, std::string> values_;
+  std::map<std::string, std::vector<std::string>> every_value_;
   std::vector<std::string> positional_;
 };
 

@@ -26,6 +26,8 @@ std::vector<CliCommand> all_commands(const PluginRegistry& registry, const Comma
        [&](const auto& a) { return render_command(a, registry); }},
       {"bench", "benchmark the default scene and glTF files at 1 and all threads",
        [&](const auto& a) { return bench_command(a, registry); }},
+      {"sweep", "render a scene at every point of a settings sweep: cost per pass and error against a reference",
+       [&](const auto& a) { return sweep_command(a, registry); }},
       {"aa-error", "anti-aliasing modes: edge error against a supersampled render, cost per pass",
        [&](const auto& a) { return antialiasing_command(a, registry); }},
       {"compare", "compare two images (PNG/EXR): metrics, FLIP, pass/fail, diff image",

@@ -65,6 +65,7 @@ void write_frame_exr(const std::string& path, const FrameBuffers& buffers);
 
 int render_command(const std::vector<std::string>& args, const PluginRegistry& registry);
 int bench_command(const std::vector<std::string>& args, const PluginRegistry& registry);
+int sweep_command(const std::vector<std::string>& args, const PluginRegistry& registry);
 int antialiasing_command(const std::vector<std::string>& args, const PluginRegistry& registry);
 
 }  // namespace cr

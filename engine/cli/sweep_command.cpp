@@ -1,0 +1,289 @@
+// `cpurender sweep`: renders a scene at every point of a settings sweep and
+// records each point's cost (per-pass and frame times, median and p95 over
+// the measured frames) and its error against a reference render of the same
+// frames (relative luminance and FLIP of the last frame), as CSV and JSON.
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <set>
+
+#include "engine/cli/arg_parser.h"
+#include "engine/cli/cli_common.h"
+#include "engine/cli/paths.h"
+#include "engine/cli/sweep_points.h"
+#include "engine/core/error.h"
+#include "engine/output/atomic_file.h"
+#include "engine/output/exr_io.h"
+#include "engine/output/image_compare.h"
+#include "engine/output/percentile.h"
+#include "engine/render/renderer.h"
+
+namespace cr {
+
+namespace {
+
+const char* const kDescription =
+    "Renders SCENE (default: the generated default scene) at every point of the cross product of the\n"
+    "--axis options, each a profile key (a dotted path into the profile JSON, e.g.\n"
+    "atmosphere.skyview_lut.width) with its values, plus \"threads\" and \"resolution\" (WxH). Each point\n"
+    "is the --base profile with its keys set; it renders --warmup + --frames frames and records the\n"
+    "median and p95 time of every pass and of the frame over the measured frames, and the error of the\n"
+    "last frame against a reference render of the same frames (mean and p95 relative luminance error of\n"
+    "the linear frames, mean LDR-FLIP of the displayed ones). The reference is --reference (a profile), by default the base profile with 8x MSAA and,\n"
+    "when it has an atmosphere section, the atmosphere's LUTs rebuilt every frame at 15 wavelengths; it is\n"
+    "rendered once and cached in OUT/references by what it depends on (the build, the reference profile,\n"
+    "the scene file, the resolution and the frame count).\n"
+    "Writes OUT/sweep.json and OUT/sweep.csv after every point (atomically), and OUT/profiles/ the\n"
+    "profile of each point. --resume keeps the points of an earlier run of the same sweep (same scene,\n"
+    "base, reference, frames and resolution) and renders the rest: a killed sweep loses only the point\n"
+    "it was rendering.";
+
+struct PointResult {
+  std::vector<double> frame_ms;
+  std::map<std::string, std::vector<double>> pass_ms;
+  ImageRGBf last;          // the last frame's linear colour
+  ImageRGBf last_display;  // and its resolved sRGB values (0..1), what FLIP compares
+};
+
+ImageRGBf linear_color(const FrameBuffers& b) {
+  ImageRGBf img(b.width, b.height);
+  for (size_t i = 0; i < b.color.size(); ++i)
+    for (int c = 0; c < 3; ++c) img.rgb[3 * i + size_t(c)] = b.color[i][c];
+  return img;
+}
+
+ImageRGBf display_color(const FrameBuffers& b) {
+  ImageRGBf img(b.width, b.height);
+  for (size_t i = 0; i < img.rgb.size(); ++i) img.rgb[i] = float(b.display[i]) / 255.0f;
+  return img;
+}
+
+PointResult render_point(const std::string& scene, const std::string& profile_path, const PluginRegistry& registry,
+                         int width, int height, unsigned threads, int warmup, int frames) {
+  const RunSetup setup = load_run(scene, profile_path, registry, width, height, threads);
+  JobSystem jobs(threads);
+  Renderer renderer(*setup.scene, setup.description, setup.profile, registry.create_all(), jobs);
+  attach_playback(renderer, setup);
+  PointResult r;
+  for (int f = 0; f < warmup + frames; ++f) {
+    const FrameRecord& rec = renderer.render_frame(f);
+    if (f < warmup) continue;
+    r.frame_ms.push_back(rec.frame_ms);
+    for (const PassTiming& p : rec.passes) r.pass_ms[p.name].push_back(p.ms());
+  }
+  r.last = linear_color(renderer.buffers());
+  r.last_display = display_color(renderer.buffers());
+  return r;
+}
+
+// FNV-1a: names a reference by what it depends on.
+uint64_t fnv1a(const std::string& bytes, uint64_t h = 0xcbf29ce484222325ull) {
+  for (unsigned char c : bytes) h = (h ^ c) * 0x100000001b3ull;
+  return h;
+}
+
+nlohmann::json default_reference(nlohmann::json base) {
+  base["antialiasing"] = "msaa8";
+  if (base.contains("atmosphere") && base["atmosphere"].is_object()) {
+    base["atmosphere"]["spectral_samples"] = 15;
+    base["atmosphere"]["schedule"]["full"] = true;
+  }
+  return base;
+}
+
+std::string format_eta(double seconds) {
+  const int s = int(seconds + 0.5);
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%d:%02d", s / 60, s % 60);
+  return buf;
+}
+
+std::string csv_field(const std::string& s) {
+  if (s.find_first_of(",\"\n") == std::string::npos) return s;
+  std::string out = "\"";
+  for (char c : s) out += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return out + "\"";
+}
+
+std::string sweep_csv(const nlohmann::json& doc) {
+  std::vector<std::string> keys;
+  for (const nlohmann::json& a : doc["axes"]) keys.push_back(a["key"].get<std::string>());
+  std::set<std::string> passes;
+  for (const nlohmann::json& p : doc["points"])
+    for (const auto& [name, v] : p["passes"].items()) passes.insert(name);
+  std::string out;
+  for (const std::string& k : keys) out += csv_field(k) + ",";
+  out += "threads,frame_ms_p50,frame_ms_p95,rel_luminance_mean,rel_luminance_p95,flip_mean";
+  for (const std::string& name : passes)
+    for (const char* stat : {" p50", " p95"}) {
+      out += ',';
+      out += csv_field(name + stat);
+    }
+  out += "\n";
+  for (const nlohmann::json& p : doc["points"]) {
+    for (const std::string& k : keys) {
+      const nlohmann::json& v = p["settings"][k];
+      out += csv_field(v.is_string() ? v.get<std::string>() : v.dump()) + ",";
+    }
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "%u,%.4f,%.4f", p["threads"].get<unsigned>(), p["frame_ms_p50"].get<double>(),
+                  p["frame_ms_p95"].get<double>());
+    out += buf;
+    for (const char* e : {"rel_luminance_mean", "rel_luminance_p95", "flip_mean"}) {
+      const nlohmann::json& v = p["error"][e];
+      if (v.is_number()) std::snprintf(buf, sizeof buf, ",%.6f", v.get<double>());
+      out += v.is_number() ? std::string(buf) : std::string(",");
+    }
+    for (const std::string& name : passes) {
+      if (!p["passes"].contains(name)) {
+        out += ",,";
+        continue;
+      }
+      std::snprintf(buf, sizeof buf, ",%.4f,%.4f", p["passes"][name]["p50"].get<double>(),
+                    p["passes"][name]["p95"].get<double>());
+      out += buf;
+    }
+    out += "\n";
+  }
+  return out;
+}
+
+}  // namespace
+
+int sweep_command(const std::vector<std::string>& args, const PluginRegistry& registry) {
+  ArgParser p("sweep", "cpurender sweep [SCENE] --axis KEY=V1,V2,... [--axis ...] [options]", kDescription);
+  p.option("axis", "KEY=V1,V2,...", "an axis of the sweep (repeat for more)")
+      .option("base", "NAME|FILE", "the profile every point starts from", "desktop")
+      .option("reference", "NAME|FILE", "the reference profile (default: the base at reference quality)")
+      .option("resolution", "WxH", "resolution of every point (a \"resolution\" axis overrides it)", "640x360")
+      .option("frames", "N", "measured frames per point", "8")
+      .option("warmup", "N", "unmeasured frames first", "2")
+      .option("threads", "N", "worker threads (a \"threads\" axis overrides it; default: all cores)")
+      .option("out", "DIR", "output directory", "out/sweep")
+      .flag("resume", "keep the finished points of an earlier run of the same sweep");
+  if (!p.parse(args, 0, 1)) return 0;
+  const std::string scene = p.positional().empty() ? default_scene_path() : p.positional()[0];
+  std::vector<SweepAxis> axes;
+  for (const std::string& a : p.get_all("axis")) axes.push_back(parse_sweep_axis(a));
+  if (axes.empty()) throw UsageError("sweep: give at least one --axis KEY=V1,V2,...");
+  const std::vector<SweepPoint> points = sweep_points(axes);
+  const int frames = p.get_int("frames", 1, 100000), warmup = p.get_int("warmup", 0, 1000);
+  const unsigned threads = threads_option(p);
+  const auto [width, height] = parse_resolution(p.get("resolution"), "sweep");
+  const std::string out = p.get("out");
+  const std::string base_path = resolve_profile_path(p.get("base"));
+  const nlohmann::json base = nlohmann::json::parse(read_file_bytes(base_path), nullptr, false);
+  if (base.is_discarded() || !base.is_object()) throw InputError(base_path, "not a JSON object");
+  const nlohmann::json reference =
+      p.has("reference") ? nlohmann::json::parse(read_file_bytes(resolve_profile_path(p.get("reference"))), nullptr, false)
+                         : default_reference(base);
+  if (reference.is_discarded() || !reference.is_object()) throw InputError(p.get("reference"), "not a JSON object");
+  std::filesystem::create_directories(out + "/profiles");
+  std::filesystem::create_directories(out + "/references");
+
+  // What the sweep is: --resume refuses a file of another sweep.
+  nlohmann::json doc = {{"scene", scene},          {"base", base},          {"reference", reference},
+                        {"frames", frames},        {"warmup", warmup},      {"resolution", {width, height}},
+                        {"axes", nlohmann::json::array()}, {"points", nlohmann::json::array()}};
+  for (const SweepAxis& a : axes) doc["axes"].push_back({{"key", a.key}, {"values", a.values}});
+  const std::string json_path = out + "/sweep.json";
+  std::set<std::string> done;
+  if (p.has("resume") && std::filesystem::exists(json_path)) {
+    const nlohmann::json old = nlohmann::json::parse(read_file_bytes(json_path), nullptr, false);
+    if (old.is_discarded() || !old.is_object()) throw InputError(json_path, "not a sweep file (JSON object)");
+    for (const char* k : {"scene", "base", "reference", "frames", "warmup", "resolution"})
+      if (old.value(k, nlohmann::json()) != doc[k])
+        throw InputError(json_path, std::string("--resume: a different sweep (its \"") + k +
+                                        "\" differs); use another --out or drop --resume");
+    for (const nlohmann::json& row : old.value("points", nlohmann::json::array()))
+      if (row.contains("point")) {
+        done.insert(row["point"].get<std::string>());
+        doc["points"].push_back(row);
+      }
+  }
+
+  // The reference render, cached by everything it depends on: the build, the
+  // reference profile, the scene file, the resolution and the frame count.
+  const std::string ref_key = std::to_string(fnv1a(read_file_bytes("/proc/self/exe"))) + "|" + reference.dump() +
+                              "|" + scene + "|" + read_file_bytes(scene) + "|" +
+                              std::to_string(width) + "x" + std::to_string(height) + "|" +
+                              std::to_string(warmup + frames);
+  char ref_name[32];
+  std::snprintf(ref_name, sizeof ref_name, "%016llx", static_cast<unsigned long long>(fnv1a(ref_key)));
+  const std::string ref_exr = out + "/references/" + ref_name + ".exr";
+  const std::string ref_display_exr = out + "/references/" + ref_name + ".display.exr";
+  ImageRGBf ref_image, ref_display;
+  if (std::filesystem::exists(ref_exr) && std::filesystem::exists(ref_display_exr)) {
+    ref_image = read_exr(ref_exr).color;
+    ref_display = read_exr(ref_display_exr).color;
+  } else {
+    const std::string ref_profile = out + "/references/" + ref_name + ".json";
+    write_file_atomic(ref_profile, reference.dump(2) + "\n");
+    std::fprintf(stderr, "sweep: rendering the reference (%s)\n", ref_profile.c_str());
+    const PointResult r = render_point(scene, ref_profile, registry, width, height, threads, 0, warmup + frames);
+    ref_image = r.last;
+    ref_display = r.last_display;
+    for (const auto& [path, image] : {std::pair{ref_display_exr, &ref_display}, std::pair{ref_exr, &ref_image}}) {
+      ExrImage img;  // the linear one last: its presence means both are complete
+      img.color = *image;
+      write_exr(path, img);
+    }
+  }
+
+  const auto start = std::chrono::steady_clock::now();
+  int rendered = 0;
+  const size_t todo = points.size() - std::count_if(points.begin(), points.end(),
+                                                    [&](const SweepPoint& q) { return done.count(q.id()) > 0; });
+  for (size_t i = 0; i < points.size(); ++i) {
+    const SweepPoint& point = points[i];
+    if (done.count(point.id())) continue;
+    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::fprintf(stderr, "\rsweep: point %zu/%zu  %s  elapsed %s  ETA %s        ", i + 1, points.size(),
+                 point.id().c_str(), format_eta(elapsed).c_str(),
+                 rendered ? format_eta(elapsed / rendered * double(todo - size_t(rendered))).c_str() : "-");
+    std::fflush(stderr);
+    nlohmann::json profile = apply_sweep_point(base, point);
+    int w = width, h = height;
+    for (const auto& [key, value] : point.settings)
+      if (key == "resolution") {
+        w = value[0].get<int>();
+        h = value[1].get<int>();
+      }
+    const std::string profile_path = out + "/profiles/point_" + std::to_string(i) + ".json";
+    write_file_atomic(profile_path, profile.dump(2) + "\n");
+    const unsigned t = sweep_point_threads(point, threads);
+    PointResult r = render_point(scene, profile_path, registry, w, h, t, warmup, frames);
+    nlohmann::json row = {{"point", point.id()}, {"settings", nlohmann::json::object()}, {"threads", t},
+                          {"profile", profile_path}};
+    for (const auto& [key, value] : point.settings) row["settings"][key] = value;
+    row["frame_ms_p50"] = median(r.frame_ms);
+    row["frame_ms_p95"] = percentile_nearest_rank(r.frame_ms, 95);
+    row["passes"] = nlohmann::json::object();
+    for (const auto& [name, v] : r.pass_ms) row["passes"][name] = {{"p50", median(v)}, {"p95", percentile_nearest_rank(v, 95)}};
+    if (r.last.width == ref_image.width && r.last.height == ref_image.height) {
+      // Relative luminance on the linear frames; FLIP on the displayed ones (at the scene's exposure).
+      const CompareResult c = compare_images(ref_image, r.last, ImageEncoding::Linear, CompareThresholds{});
+      const CompareResult d = compare_images(ref_display, r.last_display, ImageEncoding::Display, CompareThresholds{});
+      row["error"] = {{"rel_luminance_mean", c.metrics.rel_luminance_mean},
+                      {"rel_luminance_p95", c.metrics.rel_luminance_p95},
+                      {"flip_mean", d.metrics.flip_mean}};
+    } else {  // a resolution axis: the reference is at --resolution; no like-for-like error
+      row["error"] = {{"rel_luminance_mean", nullptr}, {"rel_luminance_p95", nullptr}, {"flip_mean", nullptr}};
+    }
+    doc["points"].push_back(row);
+    ++rendered;
+    write_file_atomic(json_path, doc.dump(2) + "\n");
+    write_file_atomic(out + "/sweep.csv", sweep_csv(doc));
+  }
+  const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::fprintf(stderr, "\rsweep: %d point%s rendered, %zu kept, %s%40s\n", rendered, rendered == 1 ? "" : "s",
+               done.size(), format_eta(total).c_str(), "");
+  write_file_atomic(json_path, doc.dump(2) + "\n");
+  write_file_atomic(out + "/sweep.csv", sweep_csv(doc));
+  std::printf("wrote %s and %s/sweep.csv (%zu points)\n", json_path.c_str(), out.c_str(), doc["points"].size());
+  return 0;
+}
+
+}  // namespace cr

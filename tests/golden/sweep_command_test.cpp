@@ -1,0 +1,106 @@
+// `cpurender sweep`: its axes and points, and the command end to end: one row
+// per point with times and error, a reference rendered once, --resume.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <filesystem>
+
+#include "engine/cli/arg_parser.h"
+#include "engine/cli/cli_common.h"
+#include "engine/cli/commands.h"
+#include "engine/cli/sweep_points.h"
+#include "engine/core/error.h"
+#include "engine/core/json_input.h"
+#include "engine/output/atomic_file.h"
+#include "engine/render/plugin_registry.h"
+#include "tests/output/scratch_dir.h"
+
+using cr::SweepAxis;
+using cr::SweepPoint;
+
+TEST_CASE("sweep axes: typed values, WxH resolutions, clear errors") {
+  const SweepAxis a = cr::parse_sweep_axis("atmosphere.spectral_samples=3,6");
+  CHECK(a.key == "atmosphere.spectral_samples");
+  REQUIRE(a.values.size() == 2);
+  CHECK(a.values[0] == 3);
+  CHECK(cr::parse_sweep_axis("antialiasing=none,msaa4").values[1] == "msaa4");
+  CHECK(cr::parse_sweep_axis("fog.temporal=true").values[0] == true);
+  CHECK(cr::parse_sweep_axis("resolution=960x540").values[0] == nlohmann::json::array({960, 540}));
+  for (const char* bad : {"noequals", "=1,2", "a..b=1", "a=1,,2", "a=1,1", "resolution=960", "resolution=0x5"})
+    CHECK_THROWS_AS(cr::parse_sweep_axis(bad), cr::UsageError);
+}
+
+TEST_CASE("sweep points: the cross product, first axis slowest, applied to a profile") {
+  const std::vector<SweepPoint> points =
+      cr::sweep_points({cr::parse_sweep_axis("a.b=1,2"), cr::parse_sweep_axis("c=x,y,z")});
+  REQUIRE(points.size() == 6);
+  CHECK(points[0].id() == "a.b=1;c=x");
+  CHECK(points[1].id() == "a.b=1;c=y");
+  CHECK(points[3].id() == "a.b=2;c=x");
+  CHECK_THROWS_AS(cr::sweep_points({cr::parse_sweep_axis("a=1"), cr::parse_sweep_axis("a=2")}), cr::UsageError);
+  const nlohmann::json profile = {{"name", "p"}, {"a", {{"keep", 7}}}};
+  const nlohmann::json patched = cr::apply_sweep_point(profile, points[4]);
+  CHECK(patched["a"]["b"] == 2);
+  CHECK(patched["a"]["keep"] == 7);  // the rest of the section stays
+  CHECK(patched["c"] == "y");
+  CHECK_THROWS_AS(cr::apply_sweep_point({{"name", 5}}, cr::sweep_points({cr::parse_sweep_axis("name.x=1")})[0]),
+                  cr::InputError);
+  const SweepPoint t = cr::sweep_points({cr::parse_sweep_axis("threads=2")})[0];
+  CHECK(cr::sweep_point_threads(t, 8) == 2);
+  CHECK(cr::apply_sweep_point(profile, t) == profile);  // "threads" is not a profile key
+}
+
+TEST_CASE("sweep: a row per point with times and error, the reference rendered once, --resume keeps finished points") {
+  cr::test::ScratchDir dir("sweep");
+  cr::PluginRegistry registry;
+  cr::register_builtin_plugins(registry);
+  const std::string scene = std::string(CR_BINARY_DIR) + "/scenes/default.json";
+  const std::string profile = std::string(CR_SOURCE_DIR) + "/profiles/desktop.json";
+  const std::string out = dir.file("out");
+  const std::vector<std::string> args = {scene,       "--base",   profile, "--axis", "antialiasing=none,msaa4",
+                                         "--resolution", "96x54", "--frames", "2",    "--warmup",
+                                         "0",           "--threads", "2",   "--out",  out};
+  REQUIRE(cr::sweep_command(args, registry) == 0);
+  const nlohmann::json doc = cr::load_json_file(out + "/sweep.json");
+  REQUIRE(doc["points"].size() == 2);
+  for (const nlohmann::json& row : doc["points"]) {
+    CHECK(row["frame_ms_p50"].get<double>() > 0.0);
+    CHECK(row["passes"].contains("geometry"));
+    CHECK(row["error"]["rel_luminance_mean"].get<double>() >= 0.0);
+    CHECK(row["error"]["flip_mean"].get<double>() < 0.2);
+  }
+  // Against the 8x-multisampled reference, 4x has less error than none.
+  CHECK(doc["points"][1]["error"]["flip_mean"].get<double>() < doc["points"][0]["error"]["flip_mean"].get<double>());
+  const std::string csv = cr::read_file_bytes(out + "/sweep.csv");
+  CHECK(csv.rfind("antialiasing,threads,frame_ms_p50", 0) == 0);
+  CHECK(std::count(csv.begin(), csv.end(), '\n') == 3);
+  // One reference (its profile, linear and displayed frames), cached for the next run.
+  auto references = [&] {
+    size_t n = 0;
+    for (const auto& e : std::filesystem::directory_iterator(out + "/references")) n += e.path().extension() == ".json";
+    return n;
+  };
+  CHECK(references() == 1);
+
+  // --resume with one more value: only the new point renders, the old rows stay as they were.
+  std::vector<std::string> more = args;
+  more[4] = "antialiasing=none,msaa4,msaa2";
+  more.push_back("--resume");
+  REQUIRE(cr::sweep_command(more, registry) == 0);
+  const nlohmann::json resumed = cr::load_json_file(out + "/sweep.json");
+  REQUIRE(resumed["points"].size() == 3);
+  CHECK(resumed["points"][0] == doc["points"][0]);
+  CHECK(resumed["points"][1] == doc["points"][1]);
+  CHECK(resumed["points"][2]["point"] == "antialiasing=msaa2");
+  CHECK(references() == 1);
+  // A different sweep in the same directory is refused.
+  std::vector<std::string> other = more;
+  other[8] = "3";  // --frames 3
+  CHECK_THROWS_AS(cr::sweep_command(other, registry), cr::InputError);
+  // No axis, or a key the profile rejects.
+  CHECK_THROWS_AS(cr::sweep_command({scene, "--base", profile, "--out", out}, registry), cr::UsageError);
+  CHECK_THROWS_AS(cr::sweep_command({scene, "--base", profile, "--axis", "no_such_key=1", "--resolution", "32x18",
+                                     "--frames", "1", "--warmup", "0", "--out", dir.file("bad")},
+                                    registry),
+                  cr::InputError);
+}
