@@ -267,7 +267,7 @@ void LutScheduler::run(LutKind kind, const AtmospherePlan& plan, JobSystem& jobs
     slot.back.clear();
     timing.building_ms = 0.0;
   };
-  // `mixed()` makes an empty LUT of the same shape for the groups to be mixed into.
+  // `mixed()` makes a LUT of the groups' shape (and the rebuild's inputs) for them to be mixed into.
   auto finish = [&](auto& slot, auto mixed) {
     const bool complete = w.slice_end >= slot.slices;
     decltype(mixed()) published;
@@ -365,7 +365,8 @@ void LutScheduler::run(LutKind kind, const AtmospherePlan& plan, JobSystem& jobs
         run_slices(kind, lut.texel_count(), size_t(s.skyview_width), w.slice, w.slice_end, sv_.slices, jobs,
                    [&](size_t b, size_t e) { lut.bake(b, e, luts); });
       }
-      finish(sv_, make);
+      // Mixed into a copy of a group's LUT: the inputs its rebuild started with, not this frame's.
+      finish(sv_, [&] { return std::make_shared<SkyViewLut>(*sv_.back[0]); });
       break;
     }
     case LutKind::AerialPerspective: {
@@ -387,7 +388,7 @@ void LutScheduler::run(LutKind kind, const AtmospherePlan& plan, JobSystem& jobs
         run_slices(kind, lut.column_count(), size_t(s.ap_width), w.slice, w.slice_end, ap_.slices, jobs,
                    [&](size_t b, size_t e) { lut.bake(b, e, luts); });
       }
-      finish(ap_, make);
+      finish(ap_, [&] { return std::make_shared<AerialPerspectiveLut>(*ap_.back[0]); });
       break;
     }
   }
