@@ -16,6 +16,7 @@ bool FogPlugin::configure(const Scene& scene, const SceneDescription& descriptio
   fog_.reset();
   if (!description.plugins.contains("fog")) return false;
   const FogSceneSettings s = parse_fog_scene(description.plugins.at("fog"), description.path);
+  if (!has_fog_media(s)) return false;  // nothing to scatter in: no passes, no cost
   if (orthographic_view(scene, description)) {
     std::cerr << description.path << ": warning: froxel fog needs a perspective view; the orthographic camera's "
               << "frames have no fog\n";
@@ -27,7 +28,9 @@ bool FogPlugin::configure(const Scene& scene, const SceneDescription& descriptio
 
 void FogPlugin::estimate_memory(const SceneDescription& description, const Profile& profile,
                                 MemoryBudget& memory) const {
-  if (!description.plugins.contains("fog")) return;
+  if (!description.plugins.contains("fog") ||
+      !has_fog_media(parse_fog_scene(description.plugins.at("fog"), description.path)))
+    return;
   FogProfileSettings p;
   if (profile.plugins.contains("fog")) p = parse_fog_profile(profile.plugins.at("fog"), profile.path);
   const size_t columns = saturating_product({size_t((profile.width + p.froxel_size_px - 1) / p.froxel_size_px),

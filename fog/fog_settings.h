@@ -71,6 +71,9 @@ struct FogSceneSettings {
   float distance = 0.0f;       // > 0: the scene's fog range, replacing the profile's fog_distance
 };
 
+// Whether the scene's fog has anything to scatter in: height fog or a volume.
+inline bool has_fog_media(const FogSceneSettings& s) { return s.height_fog || !s.volumes.empty(); }
+
 // Throws InputError(file, "fog.<field>: ...") on unknown keys or bad values.
 FogProfileSettings parse_fog_profile(const nlohmann::json& section, const std::string& file);
 FogSceneSettings parse_fog_scene(const nlohmann::json& section, const std::string& file);

@@ -1,9 +1,11 @@
 #include "engine/cli/cli_common.h"
 
+#include <cstdlib>
 
 #include "engine/cli/paths.h"
 #include "engine/cli/scene_overrides.h"
 #include "engine/core/error.h"
+#include "engine/output/atomic_file.h"
 #include "engine/output/exr_io.h"
 #include "engine/output/png_io.h"
 #include "engine/render/frame_memory.h"
@@ -13,7 +15,9 @@
 namespace cr {
 
 void add_scene_options(ArgParser& p) {
-  p.option("profile", "NAME|FILE", "render profile: a name in profiles/ or a .json path", "desktop")
+  p.option("profile", "NAME|FILE", "render profile: a name in profiles/, a .json path, or auto[:BASE] (planned for the scene)", "desktop")
+      .option("error-budget", "FRACTION", "--profile auto: the frame's error budget, mean relative luminance (0.02 = 2%)", "0.02")
+      .option("plan-table", "FILE", "--profile auto: the table of measured options (default: profiles/planner/auto_table.json)")
       .option("resolution", "WxH", "override the profile's resolution, e.g. 640x360")
       .option("frames", "N", "number of frames (default: the scene's)")
       .option("threads", "N", "worker threads including the main thread (default: all cores)")
@@ -55,28 +59,61 @@ std::pair<int, int> parse_resolution(const std::string& text, const std::string&
   return {w, h};
 }
 
+bool is_auto_profile(const std::string& profile) { return profile == "auto" || profile.rfind("auto:", 0) == 0; }
+
+std::string auto_table_path() { return executable_dir() + "/profiles/planner/auto_table.json"; }
+
 RunSetup load_run(const std::string& scene_path, const std::string& profile, const PluginRegistry& registry,
-                  int width, int height, unsigned threads, GltfLoadOptions model, size_t memory_limit) {
+                  int width, int height, unsigned threads, GltfLoadOptions model, size_t memory_limit,
+                  const RunRequest& request) {
   RunSetup s;
   s.memory = MemoryBudget(memory_limit);
   const std::vector<std::string> sections = registry.names();
-  s.profile = load_profile(resolve_profile_path(profile), sections);
+  const bool planned = is_auto_profile(profile);
+  const std::string profile_path =
+      resolve_profile_path(!planned ? profile : profile.size() > 5 ? profile.substr(5) : std::string("desktop"));
+  s.profile = load_profile(profile_path, sections);
   if (width > 0) {
     s.profile.width = width;
     s.profile.height = height;
   }
   s.description = load_scene_description(scene_path, sections, scene_asset_dirs());
-  // Cheapest to know first: what the profile's frames and plugins need.
-  estimate_frame_memory(s.profile, s.memory);
-  for (const std::unique_ptr<Plugin>& plugin : registry.create_all())
-    if (plugin) plugin->estimate_memory(s.description, s.profile, s.memory);  // null: a section name only
+  if (request.adjust_description) request.adjust_description(s.description);
+  const std::vector<std::unique_ptr<Plugin>> plugins = registry.create_all();
+  // Cheapest to know first: what the profile's frames and plugins need (for
+  // a planned profile, once the plan exists: it needs the scene).
+  auto estimate = [&] {
+    estimate_frame_memory(s.profile, s.memory);
+    for (const std::unique_ptr<Plugin>& plugin : plugins)
+      if (plugin) plugin->estimate_memory(s.description, s.profile, s.memory);  // null: a section name only
+  };
+  if (!planned) estimate();
   model.texture_decode_budget = size_t(s.profile.texture_decode_budget_mb) << 20;
   model.memory = &s.memory;
   s.scene = std::make_shared<Scene>(load_gltf(s.description.gltf_path, model));
   pose_described_scene(*s.scene, s.description);  // the scene file's animation pose, else the rest pose
   s.threads = threads > 0 ? threads : JobSystem::default_thread_count();
-  s.frames = s.description.frames;
+  s.frames = request.frames > 0 ? request.frames : s.description.frames;
+  if (planned) {
+    nlohmann::json base_doc = nlohmann::json::parse(read_file_bytes(profile_path), nullptr, false);
+    if (width > 0) base_doc["resolution"] = {width, height};
+    s.plan = plan_auto_profile(*s.scene, s.description, base_doc, s.profile, load_plan_table(request.plan_table.empty() ? auto_table_path() : request.plan_table),
+                               plugins, request.error_budget, s.frames, s.profile.width, s.profile.height);
+    s.profile = parse_profile(s.plan->profile, "auto (" + profile_path + ")", sections);
+    estimate();
+  }
   return s;
+}
+
+RunRequest plan_options(const ArgParser& p) {
+  RunRequest r;
+  const std::string text = p.get("error-budget");
+  char* end = nullptr;
+  r.error_budget = std::strtod(text.c_str(), &end);
+  if (text.empty() || *end != '\0' || !(r.error_budget > 0.0) || !(r.error_budget < 1.0))
+    throw UsageError("--error-budget expects a fraction in (0, 1), e.g. 0.02 for 2%, got '" + text + "'");
+  if (p.has("plan-table")) r.plan_table = p.get("plan-table");
+  return r;
 }
 
 unsigned threads_option(const ArgParser& p) {
@@ -93,9 +130,10 @@ RunSetup load_run_setup(const ArgParser& p, const PluginRegistry& registry) {
                      p.get("memory-limit") + "'");
   const std::string scene = p.positional().empty() ? default_scene_path() : p.positional()[0];
   const SceneOverrides overrides = parse_scene_overrides(p, "render");
-  RunSetup s = load_run(scene, p.get("profile"), registry, w, h, threads, model_access(p), memory_limit);
-  apply_scene_overrides(overrides, s.description);
-  if (p.has("frames")) s.frames = p.get_int("frames", 1, 1000000);
+  RunRequest request = plan_options(p);
+  if (p.has("frames")) request.frames = p.get_int("frames", 1, 1000000);
+  request.adjust_description = [&](SceneDescription& d) { apply_scene_overrides(overrides, d); };
+  RunSetup s = load_run(scene, p.get("profile"), registry, w, h, threads, model_access(p), memory_limit, request);
   return s;
 }
 
@@ -129,6 +167,7 @@ RunReport make_run_report(const RunSetup& setup, const JobSystem& jobs) {
   r.extra["draws"] = setup.scene->draws.size();
   r.extra["memory_estimate_bytes"] = setup.memory.total();
   r.extra["memory_limit_bytes"] = setup.memory.limit();
+  if (setup.plan) r.extra["plan"] = setup.plan->to_json();
   return r;
 }
 

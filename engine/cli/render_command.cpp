@@ -36,6 +36,7 @@ int render_command(const std::vector<std::string>& args, const PluginRegistry& r
   }
   const int first = p.get_int("first-frame", 0, 1 << 20);
   const bool quiet = p.has("quiet");
+  if (setup.plan && !quiet) std::cout << setup.plan->summary();
   std::filesystem::create_directories(out);
 
   JobSystem jobs(setup.threads);

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <set>
 
 #include "engine/cli/arg_parser.h"
@@ -41,10 +42,12 @@ const char* const kDescription =
     "it was rendering.";
 
 struct PointResult {
+  int frames = 0;  // measured
   std::vector<double> frame_ms;
   std::map<std::string, std::vector<double>> pass_ms;
   ImageRGBf last;          // the last frame's linear colour
   ImageRGBf last_display;  // and its resolved sRGB values (0..1), what FLIP compares
+  std::optional<AutoPlan> plan;  // an auto point's
 };
 
 ImageRGBf linear_color(const FrameBuffers& b) {
@@ -61,12 +64,16 @@ ImageRGBf display_color(const FrameBuffers& b) {
 }
 
 PointResult render_point(const std::string& scene, const std::string& profile_path, const PluginRegistry& registry,
-                         int width, int height, unsigned threads, int warmup, int frames) {
-  const RunSetup setup = load_run(scene, profile_path, registry, width, height, threads);
+                         int width, int height, unsigned threads, int warmup, int frames, RunRequest request = {}) {
+  request.frames = warmup + frames;
+  const RunSetup setup = load_run(scene, profile_path, registry, width, height, threads, {},
+                                  MemoryBudget::default_limit(), request);
   JobSystem jobs(threads);
   Renderer renderer(*setup.scene, setup.description, setup.profile, registry.create_all(), jobs);
   attach_playback(renderer, setup);
   PointResult r;
+  r.frames = frames;
+  r.plan = setup.plan;
   for (int f = 0; f < warmup + frames; ++f) {
     const FrameRecord& rec = renderer.render_frame(f);
     if (f < warmup) continue;
@@ -113,23 +120,24 @@ std::string sweep_csv(const nlohmann::json& doc) {
   std::set<std::string> passes;
   for (const nlohmann::json& p : doc["points"])
     for (const auto& [name, v] : p["passes"].items()) passes.insert(name);
-  std::string out;
+  std::string out = "point,";
   for (const std::string& k : keys) out += csv_field(k) + ",";
-  out += "threads,frame_ms_p50,frame_ms_p95,rel_luminance_mean,rel_luminance_p95,flip_mean";
+  out += "threads,frame_ms_p50,frame_ms_p95,frame_ms_p99,rel_luminance_mean,rel_luminance_p95,flip_mean";
   for (const std::string& name : passes)
-    for (const char* stat : {" p50", " p95"}) {
+    for (const char* stat : {" p50", " p95", " mean"}) {
       out += ',';
       out += csv_field(name + stat);
     }
   out += "\n";
   for (const nlohmann::json& p : doc["points"]) {
+    out += csv_field(p["point"].get<std::string>()) + ",";
     for (const std::string& k : keys) {
-      const nlohmann::json& v = p["settings"][k];
-      out += csv_field(v.is_string() ? v.get<std::string>() : v.dump()) + ",";
+      const nlohmann::json& v = p["settings"].value(k, nlohmann::json());
+      out += (v.is_null() ? std::string() : csv_field(v.is_string() ? v.get<std::string>() : v.dump())) + ",";
     }
     char buf[160];
-    std::snprintf(buf, sizeof buf, "%u,%.4f,%.4f", p["threads"].get<unsigned>(), p["frame_ms_p50"].get<double>(),
-                  p["frame_ms_p95"].get<double>());
+    std::snprintf(buf, sizeof buf, "%u,%.4f,%.4f,%.4f", p["threads"].get<unsigned>(), p["frame_ms_p50"].get<double>(),
+                  p["frame_ms_p95"].get<double>(), p.value("frame_ms_p99", p["frame_ms_p95"]).get<double>());
     out += buf;
     for (const char* e : {"rel_luminance_mean", "rel_luminance_p95", "flip_mean"}) {
       const nlohmann::json& v = p["error"][e];
@@ -138,11 +146,12 @@ std::string sweep_csv(const nlohmann::json& doc) {
     }
     for (const std::string& name : passes) {
       if (!p["passes"].contains(name)) {
-        out += ",,";
+        out += ",,,";
         continue;
       }
-      std::snprintf(buf, sizeof buf, ",%.4f,%.4f", p["passes"][name]["p50"].get<double>(),
-                    p["passes"][name]["p95"].get<double>());
+      const nlohmann::json& pass = p["passes"][name];
+      std::snprintf(buf, sizeof buf, ",%.4f,%.4f,%.4f", pass["p50"].get<double>(), pass["p95"].get<double>(),
+                    pass.value("mean", pass["p50"]).get<double>());
       out += buf;
     }
     out += "\n";
@@ -155,6 +164,10 @@ std::string sweep_csv(const nlohmann::json& doc) {
 int sweep_command(const std::vector<std::string>& args, const PluginRegistry& registry) {
   ArgParser p("sweep", "cpurender sweep [SCENE] --axis KEY=V1,V2,... [--axis ...] [options]", kDescription);
   p.option("axis", "KEY=V1,V2,...", "an axis of the sweep (repeat for more)")
+      .option("point", "LABEL=PROFILE", "also a listed point: a profile (name, file or auto[:BASE]) as it is (repeat for more)")
+      .option("points", "FILE", "a sweep file: {\"axes\": {KEY: [values]}, \"points\": [{label, profile, settings}]}")
+      .option("error-budget", "FRACTION", "the error budget of auto points (0.02 = 2%)", "0.02")
+      .option("plan-table", "FILE", "the planner's table for auto points (default: profiles/planner/auto_table.json)")
       .option("base", "NAME|FILE", "the profile every point starts from", "desktop")
       .option("reference", "NAME|FILE", "the reference profile (default: the base at reference quality)")
       .option("resolution", "WxH", "resolution of every point (a \"resolution\" axis overrides it)", "640x360")
@@ -166,9 +179,24 @@ int sweep_command(const std::vector<std::string>& args, const PluginRegistry& re
   if (!p.parse(args, 0, 1)) return 0;
   const std::string scene = p.positional().empty() ? default_scene_path() : p.positional()[0];
   std::vector<SweepAxis> axes;
+  std::vector<SweepPoint> listed;
+  if (p.has("points")) {
+    const std::string file = p.get("points");
+    const nlohmann::json doc = nlohmann::json::parse(read_file_bytes(file), nullptr, false);
+    if (doc.is_discarded()) throw InputError(file, "not valid JSON");
+    SweepFile f = parse_sweep_file(doc, file);
+    axes = std::move(f.axes);
+    listed = std::move(f.points);
+  }
   for (const std::string& a : p.get_all("axis")) axes.push_back(parse_sweep_axis(a));
-  if (axes.empty()) throw UsageError("sweep: give at least one --axis KEY=V1,V2,...");
-  const std::vector<SweepPoint> points = sweep_points(axes);
+  for (const std::string& a : p.get_all("point")) listed.push_back(parse_listed_point(a));
+  std::vector<SweepPoint> points = sweep_points(axes);
+  points.insert(points.end(), listed.begin(), listed.end());
+  if (points.empty()) throw UsageError("sweep: give at least one --axis KEY=V1,V2,..., --point or --points");
+  std::set<std::string> ids;
+  for (const SweepPoint& q : points)
+    if (!ids.insert(q.id()).second) throw UsageError("sweep: two points named '" + q.id() + "'");
+  const RunRequest plan_request = plan_options(p);
   const int frames = p.get_int("frames", 1, 100000), warmup = p.get_int("warmup", 0, 1000);
   const unsigned threads = threads_option(p);
   const auto [width, height] = parse_resolution(p.get("resolution"), "sweep");
@@ -244,7 +272,16 @@ int sweep_command(const std::vector<std::string>& args, const PluginRegistry& re
                  point.id().c_str(), format_eta(elapsed).c_str(),
                  rendered ? format_eta(elapsed / rendered * double(todo - size_t(rendered))).c_str() : "-");
     std::fflush(stderr);
-    nlohmann::json profile = apply_sweep_point(base, point);
+    const bool planned = is_auto_profile(point.profile);
+    if (planned && !point.settings.empty())
+      throw UsageError("sweep: the point '" + point.id() + "' sets keys of an auto profile; plan a base instead");
+    nlohmann::json profile = base;
+    if (!point.profile.empty() && !planned) {
+      const std::string path = resolve_profile_path(point.profile);
+      profile = nlohmann::json::parse(read_file_bytes(path), nullptr, false);
+      if (profile.is_discarded() || !profile.is_object()) throw InputError(path, "not a JSON object");
+    }
+    profile = apply_sweep_point(profile, point);
     int w = width, h = height;
     for (const auto& [key, value] : point.settings)
       if (key == "resolution") {
@@ -252,16 +289,27 @@ int sweep_command(const std::vector<std::string>& args, const PluginRegistry& re
         h = value[1].get<int>();
       }
     const std::string profile_path = out + "/profiles/point_" + std::to_string(i) + ".json";
-    write_file_atomic(profile_path, profile.dump(2) + "\n");
+    if (!planned) write_file_atomic(profile_path, profile.dump(2) + "\n");
     const unsigned t = sweep_point_threads(point, threads);
-    PointResult r = render_point(scene, profile_path, registry, w, h, t, warmup, frames);
+    PointResult r = render_point(scene, planned ? point.profile : profile_path, registry, w, h, t, warmup, frames,
+                                 plan_request);
+    if (planned) write_file_atomic(profile_path, r.plan->profile.dump(2) + "\n");  // what the plan rendered
     nlohmann::json row = {{"point", point.id()}, {"settings", nlohmann::json::object()}, {"threads", t},
                           {"profile", profile_path}};
+    if (!point.label.empty()) row["label"] = point.label;
+    if (r.plan) row["plan"] = r.plan->to_json();
     for (const auto& [key, value] : point.settings) row["settings"][key] = value;
     row["frame_ms_p50"] = median(r.frame_ms);
     row["frame_ms_p95"] = percentile_nearest_rank(r.frame_ms, 95);
+    row["frame_ms_p99"] = percentile_nearest_rank(r.frame_ms, 99);
     row["passes"] = nlohmann::json::object();
-    for (const auto& [name, v] : r.pass_ms) row["passes"][name] = {{"p50", median(v)}, {"p95", percentile_nearest_rank(v, 95)}};
+    // mean: amortised over every measured frame, a pass that did not run counting 0 (LUT rebuilds).
+    for (const auto& [name, v] : r.pass_ms) {
+      double sum = 0.0;
+      for (double x : v) sum += x;
+      row["passes"][name] = {{"p50", median(v)}, {"p95", percentile_nearest_rank(v, 95)},
+                             {"p99", percentile_nearest_rank(v, 99)}, {"mean", sum / r.frames}};
+    }
     if (r.last.width == ref_image.width && r.last.height == ref_image.height) {
       // Relative luminance on the linear frames; FLIP on the displayed ones (at the scene's exposure).
       const CompareResult c = compare_images(ref_image, r.last, ImageEncoding::Linear, CompareThresholds{});

@@ -5,6 +5,7 @@
 
 #include "engine/cli/arg_parser.h"
 #include "engine/core/error.h"
+#include "engine/core/profile_keys.h"
 
 namespace cr {
 
@@ -63,6 +64,7 @@ SweepAxis parse_sweep_axis(const std::string& text) {
 }
 
 std::string SweepPoint::id() const {
+  if (!label.empty()) return label;
   std::string out;
   for (const auto& [key, value] : settings) {
     if (!out.empty()) out += ';';
@@ -89,19 +91,61 @@ std::vector<SweepPoint> sweep_points(const std::vector<SweepAxis>& axes) {
   return axes.empty() ? std::vector<SweepPoint>{} : points;
 }
 
-nlohmann::json apply_sweep_point(nlohmann::json profile, const SweepPoint& point) {
-  for (const auto& [key, value] : point.settings) {
-    if (key == "threads") continue;
-    nlohmann::json* node = &profile;
-    const std::vector<std::string> path = split(key, '.');
-    for (size_t i = 0; i + 1 < path.size(); ++i) {
-      if (!node->is_object()) throw InputError(key, "a key on its path is not an object in the base profile");
-      node = &(*node)[path[i]];
-      if (node->is_null()) *node = nlohmann::json::object();
+SweepPoint parse_listed_point(const std::string& text) {
+  const size_t eq = text.find('=');
+  if (eq == std::string::npos || eq == 0 || eq + 1 == text.size() || text.find_first_of(";=", eq + 1) != std::string::npos ||
+      text.substr(0, eq).find(';') != std::string::npos)
+    throw UsageError("--point '" + text + "': expected LABEL=PROFILE (e.g. mobile=mobile, auto=auto)");
+  SweepPoint p;
+  p.label = text.substr(0, eq);
+  p.profile = text.substr(eq + 1);
+  return p;
+}
+
+SweepFile parse_sweep_file(const nlohmann::json& doc, const std::string& path) {
+  if (!doc.is_object()) throw InputError(path, "a sweep file is a JSON object");
+  for (const auto& [key, value] : doc.items())
+    if (key != "axes" && key != "points") throw InputError(path, "unknown key '" + key + "' (axes, points)");
+  SweepFile f;
+  if (doc.contains("axes")) {
+    if (!doc["axes"].is_object()) throw InputError(path, "axes: expected an object of KEY: [values]");
+    for (const auto& [key, values] : doc["axes"].items()) {
+      if (!values.is_array() || values.empty()) throw InputError(path, "axes." + key + ": expected a non-empty array");
+      SweepAxis a;
+      a.key = key;
+      for (const nlohmann::json& v : values) {
+        if (std::find(a.values.begin(), a.values.end(), v) != a.values.end())
+          throw InputError(path, "axes." + key + ": the value " + v.dump() + " twice");
+        a.values.push_back(v);
+      }
+      f.axes.push_back(std::move(a));
     }
-    if (!node->is_object()) throw InputError(key, "its parent is not an object in the base profile");
-    (*node)[path.back()] = value;
   }
+  if (doc.contains("points")) {
+    if (!doc["points"].is_array()) throw InputError(path, "points: expected an array");
+    for (size_t i = 0; i < doc["points"].size(); ++i) {
+      const nlohmann::json& q = doc["points"][i];
+      const std::string at = "points[" + std::to_string(i) + "]";
+      if (!q.is_object() || !q.contains("label") || !q["label"].is_string() || q["label"].get<std::string>().empty())
+        throw InputError(path, at + ": expected an object with a \"label\"");
+      SweepPoint p;
+      p.label = q["label"].get<std::string>();
+      for (const auto& [key, value] : q.items()) {
+        if (key == "label") continue;
+        if (key == "profile" && value.is_string()) p.profile = value.get<std::string>();
+        else if (key == "settings" && value.is_object())
+          for (const auto& [k, v] : value.items()) p.settings.emplace_back(k, v);
+        else throw InputError(path, at + "." + key + ": expected \"profile\" (a string) or \"settings\" (an object)");
+      }
+      f.points.push_back(std::move(p));
+    }
+  }
+  return f;
+}
+
+nlohmann::json apply_sweep_point(nlohmann::json profile, const SweepPoint& point) {
+  for (const auto& [key, value] : point.settings)
+    if (key != "threads") set_profile_key(profile, key, value);
   return profile;
 }
 

@@ -24,10 +24,27 @@ struct SweepAxis {
 SweepAxis parse_sweep_axis(const std::string& text);
 
 struct SweepPoint {
+  // A listed point's name ("desktop", "auto"); empty for a point of the axes.
+  std::string label;
+  // The profile it starts from (a name, a file, or auto[:BASE]); empty: the sweep's base.
+  std::string profile;
   std::vector<std::pair<std::string, nlohmann::json>> settings;  // in axis order
-  // "key=value;key=value": names the point in outputs and for --resume.
+  // The label, else "key=value;key=value": names the point in outputs and for --resume.
   std::string id() const;
 };
+
+// "LABEL=PROFILE" (--point): a listed point rendering that profile as it is.
+// UsageError when malformed.
+SweepPoint parse_listed_point(const std::string& text);
+
+// A sweep file: {"axes": {"KEY": [V1, V2, ...], ...}, "points": [{"label":
+// "L", "profile": "P", "settings": {"KEY": V, ...}}, ...]}, both optional.
+// Axes keep the file's key order. InputError naming the file and field.
+struct SweepFile {
+  std::vector<SweepAxis> axes;
+  std::vector<SweepPoint> points;
+};
+SweepFile parse_sweep_file(const nlohmann::json& doc, const std::string& path);
 
 // The cross product of the axes, the first axis varying slowest. Throws
 // UsageError when two axes name the same key.

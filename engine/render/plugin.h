@@ -15,6 +15,7 @@
 #include "engine/core/profile.h"
 #include "engine/render/frame_buffers.h"
 #include "engine/render/frame_graph.h"
+#include "engine/render/module_plan.h"
 #include "engine/scene/camera.h"
 #include "engine/scene/scene.h"
 #include "engine/scene/scene_description.h"
@@ -111,6 +112,16 @@ class Plugin {
   // fragments what it gives pixels.
   virtual void composite_fragments(const FrameBuffers& buffers, std::span<EdgeFragment> fragments) {
     (void)buffers; (void)fragments;
+  }
+  // What the `auto` planner may choose for this plugin (engine/planning/
+  // auto_plan.h): by default the table's options as they are. A plugin
+  // overrides it to skip what the scene does not use (used = false) and to
+  // add the settings the scene decides. Throws InputError as configure() does.
+  virtual ModulePlan plan(const PlanContext& ctx) const {
+    ModulePlan m;
+    m.module = name();
+    m.options = parse_plan_options(ctx.table_options, ctx.table_path, name());
+    return m;
   }
   // Adds the plugin's per-frame figures (e.g. LUT bake times) to the report.
   virtual void report_frame(nlohmann::json& frame) { (void)frame; }

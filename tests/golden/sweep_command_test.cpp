@@ -72,7 +72,7 @@ TEST_CASE("sweep: a row per point with times and error, the reference rendered o
   // Against the 8x-multisampled reference, 4x has less error than none.
   CHECK(doc["points"][1]["error"]["flip_mean"].get<double>() < doc["points"][0]["error"]["flip_mean"].get<double>());
   const std::string csv = cr::read_file_bytes(out + "/sweep.csv");
-  CHECK(csv.rfind("antialiasing,threads,frame_ms_p50", 0) == 0);
+  CHECK(csv.rfind("point,antialiasing,threads,frame_ms_p50", 0) == 0);
   CHECK(std::count(csv.begin(), csv.end(), '\n') == 3);
   // One reference (its profile, linear and displayed frames), cached for the next run.
   auto references = [&] {
@@ -103,4 +103,46 @@ TEST_CASE("sweep: a row per point with times and error, the reference rendered o
                                      "--frames", "1", "--warmup", "0", "--out", dir.file("bad")},
                                     registry),
                   cr::InputError);
+}
+
+TEST_CASE("sweep listed points: --point LABEL=PROFILE, a sweep file, auto points with their plan, amortised pass means") {
+  cr::test::ScratchDir dir("sweep-listed");
+  cr::PluginRegistry registry;
+  cr::register_builtin_plugins(registry);
+  const std::string scene = std::string(CR_BINARY_DIR) + "/scenes/default.json";
+  const std::string profile = std::string(CR_SOURCE_DIR) + "/profiles/desktop.json";
+  const std::string table = std::string(CR_SOURCE_DIR) + "/profiles/planner/auto_table.json";
+  const std::string file = dir.file("points.json");
+  cr::write_file_atomic(file, nlohmann::json{{"points", {{{"label", "desktop, no AA"}, {"profile", profile},
+                                                          {"settings", {{"antialiasing", "none"}}}}}}}
+                                  .dump());
+  const std::string out = dir.file("out");
+  const std::vector<std::string> args = {scene, "--base", profile, "--points", file, "--point", "desktop=" + profile,
+                                         "--point", "auto=auto:" + profile, "--plan-table", table, "--resolution", "96x54",
+                                         "--frames", "3", "--warmup", "0", "--threads", "2", "--out", out};
+  REQUIRE(cr::sweep_command(args, registry) == 0);
+  const nlohmann::json doc = cr::load_json_file(out + "/sweep.json");
+  REQUIRE(doc["points"].size() == 3);
+  CHECK(doc["points"][0]["label"] == "desktop, no AA");
+  CHECK(doc["points"][0]["settings"]["antialiasing"] == "none");
+  CHECK(doc["points"][1]["label"] == "desktop");
+  const nlohmann::json& a = doc["points"][2];
+  CHECK(a["label"] == "auto");
+  REQUIRE(a.contains("plan"));
+  CHECK(a["plan"]["facts"]["frames"] == 3);
+  // The profile the auto point rendered is written beside the others.
+  CHECK(cr::load_json_file(a["profile"].get<std::string>())["name"] == "auto");
+  // "mean" spreads a pass over every measured frame; p50 is of the frames it ran.
+  for (const nlohmann::json& row : doc["points"])
+    for (const auto& [name, pass] : row["passes"].items()) {
+      CHECK(pass["mean"].get<double>() <= pass["p99"].get<double>() + 1e-9);
+      CHECK(pass["p95"].get<double>() <= pass["p99"].get<double>());
+    }
+  const std::string csv = cr::read_file_bytes(out + "/sweep.csv");
+  CHECK(csv.find("\ndesktop,") != std::string::npos);
+  // Two points of one name, and keys set on an auto point, are refused.
+  CHECK_THROWS_AS(cr::sweep_command({scene, "--point", "a=desktop", "--point", "a=mobile", "--out", out}, registry),
+                  cr::UsageError);
+  CHECK_THROWS_AS(cr::parse_listed_point("noprofile"), cr::UsageError);
+  CHECK_THROWS_AS(cr::parse_sweep_file(nlohmann::json{{"points", {{{"profile", "x"}}}}}, "f.json"), cr::InputError);
 }

@@ -1,0 +1,162 @@
+#!/usr/bin/env python3
+"""auto_table.py: measures the options the `auto` planner chooses among and writes its table
+(profiles/planner/auto_table.json; docs/planner.md).
+
+For every module of a frame (the engine's passes, the atmosphere, the fog) the options below are
+rendered on the scenes that use the module, each as the table's reference profile with only that
+module's keys changed, so the whole frame's error against the reference render is that option's own:
+
+  cpurender sweep SCENE --points FILE --reference REF --resolution 1280x720 --threads 2 ...
+
+Per option the table keeps
+  error          the largest mean relative luminance error of the last frame over the scenes,
+  cost_ms        the largest per-frame cost of the module's passes (amortised over the measured
+                 frames) over the scenes where the camera or the sun moves,
+  static_cost_ms the same over the scenes where both hold still (LUTs are then built once).
+The reference is the desktop profile at 8x MSAA with the LUTs rebuilt every frame at 15 wavelengths
+and the fog at 4 px froxels and 128 slices.
+
+A benchmark, not a test: minutes on two cores. Run it on an otherwise idle machine:
+  tools/planner/auto_table.py [--build build] [--out out/auto_table] [--write profiles/planner/auto_table.json]
+"""
+import argparse, json, os, platform, subprocess, sys
+
+THREADS = 2
+
+# Each option: a name and the profile keys it sets (dotted paths into the profile).
+OPTIONS = {
+    "engine": [
+        ("msaa4", {"antialiasing": "msaa4", "shadow_map_size": 2048}),
+        ("msaa2", {"antialiasing": "msaa2", "shadow_map_size": 2048}),
+        ("no AA", {"antialiasing": "none", "shadow_map_size": 2048}),
+        ("no AA, 1024 shadow map", {"antialiasing": "none", "shadow_map_size": 1024}),
+    ],
+    "atmosphere": [
+        ("6 wavelengths", {"atmosphere.spectral_samples": 6, "atmosphere.schedule.full": False}),
+        ("6 wavelengths, sliced", {"atmosphere.spectral_samples": 6, "atmosphere.schedule.full": False,
+                                   "atmosphere.schedule.skyview.slices": 2,
+                                   "atmosphere.schedule.aerial_perspective.slices": 3}),
+        ("RGB, sliced", {"atmosphere.spectral_samples": 3, "atmosphere.schedule.full": False,
+                         "atmosphere.schedule.skyview.slices": 2,
+                         "atmosphere.schedule.aerial_perspective.slices": 3}),
+        ("RGB, small LUTs, sliced", {"atmosphere.spectral_samples": 3, "atmosphere.schedule.full": False,
+                                     "atmosphere.skyview_lut.width": 96, "atmosphere.skyview_lut.height": 54,
+                                     "atmosphere.schedule.skyview.slices": 2,
+                                     "atmosphere.schedule.aerial_perspective.slices": 3}),
+    ],
+    "fog": [
+        ("8 px, 64 slices", {"fog.froxel_size_px": 8, "fog.slices": 64}),
+        ("8 px, 32 slices", {"fog.froxel_size_px": 8, "fog.slices": 32}),
+        ("16 px, 64 slices", {"fog.froxel_size_px": 16, "fog.slices": 64}),
+        ("16 px, 32 slices", {"fog.froxel_size_px": 16, "fog.slices": 32}),
+    ],
+}
+# Modules whose work grows with the pixel count (the planner scales their cost to the output).
+SCALES_WITH_PIXELS = {"engine": True, "atmosphere": False, "fog": True}
+
+# Scenes, the modules each uses, and whether its camera or sun moves over the measured frames.
+SCENES = [
+    ("scenes/fog_valley_flythrough.json", ["engine", "atmosphere", "fog"], True),
+    ("scenes/sky_sunset_timelapse.json", ["engine", "atmosphere"], True),
+    ("scenes/default_flythrough.json", ["engine", "atmosphere"], True),
+    ("scenes/fog_volumes.json", ["engine", "fog"], False),
+    ("scenes/fog_valley_sunrise.json", ["engine", "atmosphere", "fog"], False),
+    ("scenes/sky_earth_noon.json", ["engine", "atmosphere"], False),
+]
+
+
+def reference_profile(desktop):
+    ref = json.loads(json.dumps(desktop))
+    ref["name"] = "auto-table reference"
+    ref["antialiasing"] = "msaa8"
+    ref["atmosphere"]["spectral_samples"] = 15
+    ref["atmosphere"]["schedule"]["full"] = True
+    ref["fog"]["froxel_size_px"] = 4
+    ref["fog"]["slices"] = 128
+    return ref
+
+
+def module_cost(row, module):
+    """Per-frame ms of a module's passes (engine: the passes without a plugin prefix)."""
+    total = 0.0
+    for name, p in row["passes"].items():
+        owner = name.split(".", 1)[0] if "." in name else "engine"
+        if owner == module:
+            total += p.get("mean", p["p50"])
+    return total
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--build", default="build")
+    ap.add_argument("--out", default="out/auto_table")
+    ap.add_argument("--write", default="profiles/planner/auto_table.json")
+    ap.add_argument("--resolution", default="1280x720", help="the table's resolution (the planner scales from it)")
+    ap.add_argument("--warmup", type=int, default=4)
+    ap.add_argument("--frames", type=int, default=12, help="measured frames per point")
+    args = ap.parse_args()
+    RESOLUTION = tuple(int(v) for v in args.resolution.split("x"))
+    WARMUP, FRAMES = args.warmup, args.frames
+    cpurender = os.path.join(args.build, "cpurender")
+    os.makedirs(args.out, exist_ok=True)
+    desktop = json.load(open("profiles/desktop.json"))
+    ref_path = os.path.join(args.out, "reference.json")
+    json.dump(reference_profile(desktop), open(ref_path, "w"), indent=2)
+
+    measured = {m: {name: {"error": [], "cost": [], "static": []} for name, _ in opts} for m, opts in OPTIONS.items()}
+    for scene, modules, moving in SCENES:
+        points = []
+        for m in modules:
+            for name, settings in OPTIONS[m]:
+                points.append({"label": f"{m}: {name}", "profile": ref_path, "settings": settings})
+        tag = os.path.splitext(os.path.basename(scene))[0]
+        points_file = os.path.join(args.out, f"{tag}.points.json")
+        json.dump({"points": points}, open(points_file, "w"), indent=2)
+        out = os.path.join(args.out, tag)
+        cmd = [cpurender, "sweep", scene, "--points", points_file, "--base", ref_path, "--reference", ref_path,
+               "--resolution", f"{RESOLUTION[0]}x{RESOLUTION[1]}", "--threads", str(THREADS),
+               "--warmup", str(WARMUP), "--frames", str(FRAMES), "--out", out, "--resume"]
+        print(" ".join(cmd), file=sys.stderr)
+        subprocess.run(cmd, check=True)
+        for row in json.load(open(os.path.join(out, "sweep.json")))["points"]:
+            m, name = row["label"].split(": ", 1)
+            entry = measured[m][name]
+            entry["error"].append(row["error"]["rel_luminance_mean"])
+            entry["cost" if moving else "static"].append(module_cost(row, m))
+
+    table = {
+        "format": "cpurender-auto-table",
+        "measured": {
+            "command": "tools/planner/auto_table.py",
+            "resolution": list(RESOLUTION), "threads": THREADS, "warmup": WARMUP, "frames": FRAMES,
+            "machine": f"{platform.processor() or platform.machine()}, {os.cpu_count()} cores",
+            "scenes": [s for s, _, _ in SCENES],
+            "reference": "desktop at msaa8, LUTs rebuilt every frame at 15 wavelengths, fog 4 px x 128 slices",
+            "error": "largest mean relative luminance error of the last frame over the scenes using the module",
+            "cost_ms": "largest amortised per-frame cost of the module's passes over the moving scenes",
+            "static_cost_ms": "the same over the still scenes",
+        },
+        "modules": {},
+    }
+    for m, opts in OPTIONS.items():
+        rows = []
+        for name, settings in opts:
+            e = measured[m][name]
+            row = {"name": name, "settings": settings, "cost_ms": round(max(e["cost"] or e["static"]), 3),
+                   "error": round(max(e["error"]), 5)}
+            if e["static"] and m == "atmosphere":
+                row["static_cost_ms"] = round(max(e["static"]), 3)
+            rows.append(row)
+        table["modules"][m] = {"scales_with_pixels": SCALES_WITH_PIXELS[m], "options": rows}
+    with open(args.write, "w") as f:
+        json.dump(table, f, indent=2)
+        f.write("\n")
+    print(f"wrote {args.write}")
+    for m in table["modules"]:
+        for r in table["modules"][m]["options"]:
+            print(f"{m:11s} {r['name']:28s} {r['cost_ms']:8.2f} ms  error {100 * r['error']:.2f}%"
+                  + (f"  still {r['static_cost_ms']:.2f} ms" if "static_cost_ms" in r else ""))
+
+
+if __name__ == "__main__":
+    main()
