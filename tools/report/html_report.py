@@ -8,6 +8,8 @@ import json
 from html import escape
 from pathlib import Path
 
+import sweep_data
+
 CSS = """
 body { font: 15px/1.45 system-ui, sans-serif; max-width: 60rem; margin: 2rem auto; padding: 0 1rem; color: #222; }
 h1 { font-size: 1.6rem; } h2 { margin-top: 2.2rem; border-bottom: 1px solid #ccc; }
@@ -46,8 +48,14 @@ def _settings_text(settings):
     return ', '.join(f'{k}={v if isinstance(v, str) else json.dumps(v)}' for k, v in settings.items())
 
 
-def _list(items, css_class='notes'):
-    return f'<ul class="{css_class}">' + ''.join(f'<li>{escape(i)}</li>' for i in items) + '</ul>'
+def _notes(items):
+    return '<ul class="notes">' + ''.join(f'<li>{escape(i)}</li>' for i in items) + '</ul>'
+
+
+def _error_meaning(module):
+    if module == sweep_data.FRAME:
+        return 'error of the last frame against the sweep\'s reference render'
+    return f'error of the {module} module against its own ground truth (module_error.{module})'
 
 
 def _front_table(chart, merged):
@@ -71,8 +79,8 @@ def _charts_section(report):
     else:
         out.append('<p>Each grey dot is a sweep point: its ms per frame (x) against its mean relative '
                    'luminance error (y, log scale). The black step line is the Pareto front: the points '
-                   'no other point matches or beats in both time and error. Named profiles have their '
-                   'own markers.</p>')
+                   'no other point matches in both time and error while beating them in one. Named '
+                   'profiles have their own markers.</p>')
     merged = len(report.sweeps) > 1
     for chart in report.charts:
         out.append(f'<h3>{escape(chart.title)}</h3>')
@@ -81,11 +89,12 @@ def _charts_section(report):
             continue
         out.append(f'<figure><img src="{_data_uri(chart.png)}" alt="{escape(report.scene)}: '
                    f'{escape(chart.title)}, error against time with the Pareto front">'
-                   f'<figcaption>{escape(chart.title)}. Also as {escape(Path(chart.png).name)} and '
+                   f'<figcaption>{escape(chart.title)}: {escape(_error_meaning(chart.module))}. '
+                   f'Also as {escape(Path(chart.png).name)} and '
                    f'{escape(Path(chart.svg).name)}.</figcaption></figure>')
         out.append(_front_table(chart, merged))
         if chart.notes:
-            out.append('<p class="notes">Not drawn:</p>' + _list(chart.notes))
+            out.append('<p class="notes">Not drawn:</p>' + _notes(chart.notes))
     out.append('</section>')
     return ''.join(out)
 
