@@ -3,7 +3,7 @@
 set -euo pipefail
 packages=(build-essential cmake libglm-dev libtinygltf-dev libstb-dev libopenexr-dev doctest-dev
           nlohmann-json3-dev assimp-testmodels libdraco-dev libmeshoptimizer-dev libpng-dev libjpeg62-turbo-dev
-          clang libclang-rt-14-dev python3-matplotlib)
+          clang libclang-rt-14-dev python3-matplotlib chromium)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
