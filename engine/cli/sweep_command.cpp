@@ -36,6 +36,8 @@ const char* const kDescription =
     "when it has an atmosphere section, the atmosphere's LUTs rebuilt every frame at 15 wavelengths; it is\n"
     "rendered once and cached in OUT/references by what it depends on (the build, the reference profile,\n"
     "the scene file, the resolution and the frame count).\n"
+    "--point LABEL=PROFILE adds a listed point rendering a whole profile (a name, a file, or auto[:BASE],\n"
+    "planned for the scene); --points FILE reads axes and listed points from a sweep file.\n"
     "Writes OUT/sweep.json and OUT/sweep.csv after every point (atomically), and OUT/profiles/ the\n"
     "profile of each point. --resume keeps the points of an earlier run of the same sweep (same scene,\n"
     "base, reference, frames and resolution) and renders the rest: a killed sweep loses only the point\n"
@@ -162,7 +164,7 @@ std::string sweep_csv(const nlohmann::json& doc) {
 }  // namespace
 
 int sweep_command(const std::vector<std::string>& args, const PluginRegistry& registry) {
-  ArgParser p("sweep", "cpurender sweep [SCENE] --axis KEY=V1,V2,... [--axis ...] [options]", kDescription);
+  ArgParser p("sweep", "cpurender sweep [SCENE] (--axis KEY=V1,V2,... | --point LABEL=PROFILE | --points FILE)... [options]", kDescription);
   p.option("axis", "KEY=V1,V2,...", "an axis of the sweep (repeat for more)")
       .option("point", "LABEL=PROFILE", "also a listed point: a profile (name, file or auto[:BASE]) as it is (repeat for more)")
       .option("points", "FILE", "a sweep file: {\"axes\": {KEY: [values]}, \"points\": [{label, profile, settings}]}")

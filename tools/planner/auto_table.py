@@ -13,13 +13,14 @@ Per option the table keeps
   cost_ms        the largest per-frame cost of the module's passes (amortised over the measured
                  frames) over the scenes where the camera or the sun moves,
   static_cost_ms the same over the scenes where both hold still (LUTs are then built once).
-The reference is the desktop profile at 8x MSAA with the LUTs rebuilt every frame at 15 wavelengths
-and the fog at 4 px froxels and 128 slices.
+The reference is table_reference.py's.
 
 A benchmark, not a test: minutes on two cores. Run it on an otherwise idle machine:
   tools/planner/auto_table.py [--build build] [--out out/auto_table] [--write profiles/planner/auto_table.json]
 """
 import argparse, json, os, platform, subprocess, sys
+
+from table_reference import DESCRIPTION, reference_profile
 
 THREADS = 2
 
@@ -65,17 +66,6 @@ SCENES = [
 ]
 
 
-def reference_profile(desktop):
-    ref = json.loads(json.dumps(desktop))
-    ref["name"] = "auto-table reference"
-    ref["antialiasing"] = "msaa8"
-    ref["atmosphere"]["spectral_samples"] = 15
-    ref["atmosphere"]["schedule"]["full"] = True
-    ref["fog"]["froxel_size_px"] = 4
-    ref["fog"]["slices"] = 128
-    return ref
-
-
 def module_cost(row, module):
     """Per-frame ms of a module's passes (engine: the passes without a plugin prefix)."""
     total = 0.0
@@ -118,11 +108,20 @@ def main():
                "--warmup", str(WARMUP), "--frames", str(FRAMES), "--out", out, "--resume"]
         print(" ".join(cmd), file=sys.stderr)
         subprocess.run(cmd, check=True)
-        for row in json.load(open(os.path.join(out, "sweep.json")))["points"]:
+        sweep_path = os.path.join(out, "sweep.json")
+        sweep = json.load(open(sweep_path))
+        for row in sweep["points"]:
             m, name = row["label"].split(": ", 1)
             entry = measured[m][name]
             entry["error"].append(row["error"]["rel_luminance_mean"])
             entry["cost" if moving else "static"].append(module_cost(row, m))
+            # Only this module differs from the reference: the frame's error is the module's
+            # (tools/report charts it per module).
+            if m != "engine":
+                row["module_error"] = {m: {k: row["error"][k] for k in ("rel_luminance_mean", "rel_luminance_p95")}}
+        with open(sweep_path + ".tmp", "w") as f:
+            json.dump(sweep, f, indent=2)
+        os.replace(sweep_path + ".tmp", sweep_path)
 
     table = {
         "format": "cpurender-auto-table",
@@ -131,7 +130,7 @@ def main():
             "resolution": list(RESOLUTION), "threads": THREADS, "warmup": WARMUP, "frames": FRAMES,
             "machine": f"{platform.processor() or platform.machine()}, {os.cpu_count()} cores",
             "scenes": [s for s, _, _ in SCENES],
-            "reference": "desktop at msaa8, LUTs rebuilt every frame at 15 wavelengths, fog 4 px x 128 slices",
+            "reference": DESCRIPTION,
             "error": "largest mean relative luminance error of the last frame over the scenes using the module",
             "cost_ms": "largest amortised per-frame cost of the module's passes over the moving scenes",
             "static_cost_ms": "the same over the still scenes",
