@@ -40,6 +40,11 @@ double predicted_cost(const PlanOption& o, const PlanTable& table, const std::st
   return c;
 }
 
+// Its error for this scene: the still-scene figure where camera and sun hold still.
+double predicted_error(const PlanOption& o, const SceneFacts& f) {
+  return f.camera_static() && f.sun_static() && o.static_error ? *o.static_error : o.error;
+}
+
 }  // namespace
 
 bool PlanTable::scales_with_pixels(const std::string& module) const {
@@ -114,13 +119,16 @@ AutoPlan plan_auto_profile(const Scene& scene, const SceneDescription& descripti
   // module's options few): the cheapest whose errors sum within the budget,
   // else the most accurate.
   const size_t n = plan.modules.size();
-  std::vector<std::vector<double>> cost(n);
+  std::vector<std::vector<double>> cost(n), error(n);
   size_t combinations = 1;
   for (size_t i = 0; i < n; ++i) {
     const ModulePlan& m = plan.modules[i];
     if (!m.used) continue;
     if (m.options.empty()) throw InputError(table.path, "modules." + m.module + ": no options for a module the scene uses");
-    for (const PlanOption& o : m.options) cost[i].push_back(predicted_cost(o, table, m.module, plan.facts));
+    for (const PlanOption& o : m.options) {
+      cost[i].push_back(predicted_cost(o, table, m.module, plan.facts));
+      error[i].push_back(predicted_error(o, plan.facts));
+    }
     combinations *= m.options.size();
     if (combinations > 1000000) throw InputError(table.path, "modules: more than a million option combinations");
   }
@@ -139,7 +147,7 @@ AutoPlan plan_auto_profile(const Scene& scene, const SceneDescription& descripti
       index[i] = int(rest % k);
       rest /= k;
       total_cost += cost[i][size_t(index[i])];
-      total_error += plan.modules[i].options[size_t(index[i])].error;
+      total_error += error[i][size_t(index[i])];
     }
     // Strict comparisons: ties keep the first combination, so the plan is deterministic.
     if (total_error <= error_budget && (total_cost < fit_cost || (total_cost == fit_cost && total_error < fit_error))) {
@@ -162,11 +170,13 @@ AutoPlan plan_auto_profile(const Scene& scene, const SceneDescription& descripti
   plan.profile = base_doc;
   plan.profile["name"] = "auto";
   plan.option_cost.assign(n, 0.0);
+  plan.option_error.assign(n, 0.0);
   for (size_t i = 0; i < n; ++i) {
     const ModulePlan& m = plan.modules[i];
     if (!m.used) continue;
     const PlanOption& o = m.options[size_t(plan.chosen[i])];
     plan.option_cost[i] = cost[i][size_t(plan.chosen[i])];
+    plan.option_error[i] = error[i][size_t(plan.chosen[i])];
     for (const auto& [key, value] : o.settings.items()) set_profile_key(plan.profile, key, value);
     for (const PlanChoice& s : m.settings) set_profile_key(plan.profile, s.key, s.value);
   }
@@ -190,7 +200,7 @@ nlohmann::json AutoPlan::to_json() const {
     nlohmann::json mj = {{"module", m.module}, {"used", m.used}, {"note", m.note}};
     if (m.used) {
       const PlanOption& o = m.options[size_t(chosen[i])];
-      mj["option"] = {{"name", o.name}, {"settings", o.settings}, {"predicted_ms", option_cost[i]}, {"error", o.error}};
+      mj["option"] = {{"name", o.name}, {"settings", o.settings}, {"predicted_ms", option_cost[i]}, {"predicted_error", option_error[i]}};
       mj["options_considered"] = m.options.size();
       const std::string why = meets_error_budget ? "the cheapest option whose error, with the other modules', fits " +
                                                        percent(error_budget)
@@ -221,7 +231,7 @@ std::string AutoPlan::summary() const {
       continue;
     }
     const PlanOption& o = m.options[size_t(chosen[i])];
-    s += "  " + m.module + ": \"" + o.name + "\" (" + ms(option_cost[i]) + ", error " + percent(o.error) + ", of " +
+    s += "  " + m.module + ": \"" + o.name + "\" (" + ms(option_cost[i]) + ", error " + percent(option_error[i]) + ", of " +
          std::to_string(m.options.size()) + " options)" + (m.note.empty() ? "" : "; " + m.note) + "\n";
     for (const PlanChoice& c : m.settings)
       s += "    " + c.key + " = " + c.value.dump() + ": " + c.reason + "\n";

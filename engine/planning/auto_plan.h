@@ -40,6 +40,7 @@ struct AutoPlan {
   std::vector<ModulePlan> modules;
   std::vector<int> chosen;           // per module: the option index, -1 where unused
   std::vector<double> option_cost;   // per module: the chosen option's predicted cost at this resolution
+  std::vector<double> option_error;  // and its predicted error for this scene
   double predicted_ms = 0.0;         // the chosen options' costs summed
   double predicted_error = 0.0;      // their errors summed (an upper bound of the frame's)
   bool meets_error_budget = false;   // false: no combination does; the most accurate one is chosen

@@ -30,7 +30,8 @@ std::vector<PlanOption> parse_plan_options(const nlohmann::json& options, const 
     const std::string at = where + "[" + std::to_string(i) + "]";
     if (!o.is_object()) throw InputError(file, at + ": expected an object");
     for (const auto& [key, value] : o.items())
-      if (key != "name" && key != "settings" && key != "cost_ms" && key != "error" && key != "static_cost_ms")
+      if (key != "name" && key != "settings" && key != "cost_ms" && key != "error" && key != "static_cost_ms" &&
+          key != "static_error")
         throw InputError(file, at + ": unknown key '" + key + "'");
     PlanOption p;
     if (!o.contains("name") || !o["name"].is_string()) throw InputError(file, at + ".name: expected a string");
@@ -43,11 +44,12 @@ std::vector<PlanOption> parse_plan_options(const nlohmann::json& options, const 
         throw InputError(file, at + "." + k + ": expected a finite number >= 0");
     p.cost_ms = o["cost_ms"].get<double>();
     p.error = o["error"].get<double>();
-    if (o.contains("static_cost_ms")) {
-      const nlohmann::json& c = o["static_cost_ms"];
+    for (const char* k : {"static_cost_ms", "static_error"}) {
+      if (!o.contains(k)) continue;
+      const nlohmann::json& c = o[k];
       if (!c.is_number() || !(c.get<double>() >= 0.0) || !std::isfinite(c.get<double>()))
-        throw InputError(file, at + ".static_cost_ms: expected a finite number >= 0");
-      p.static_cost_ms = c.get<double>();
+        throw InputError(file, at + "." + k + ": expected a finite number >= 0");
+      (std::string(k) == "static_error" ? p.static_error : p.static_cost_ms) = c.get<double>();
     }
     out.push_back(std::move(p));
   }

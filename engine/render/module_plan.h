@@ -44,6 +44,8 @@ struct PlanOption {
   // Its cost where the camera and the sun hold still (work that only
   // changing inputs trigger is then done once); unknown: cost_ms.
   std::optional<double> static_cost_ms;
+  // Its error there (temporal accumulation converges in a still view); unknown: error.
+  std::optional<double> static_error;
 };
 
 // A setting the scene decides, whatever option is chosen, and why.

@@ -123,6 +123,18 @@ TEST_CASE("auto plan: what the scene does not use costs nothing; still scenes pa
   CHECK(small.plan.predicted_ms == doctest::Approx(2.5 + 0.1));
 }
 
+TEST_CASE("auto plan: still scenes are planned with the still-scene errors (temporal accumulation converges)") {
+  nlohmann::json table = synthetic_table();
+  table["modules"]["fog"]["options"][0]["static_error"] = 0.002;  // X: 1% moving, 0.2% still
+  // fog_volumes holds camera and sun still: A + X fits (1.5% + 0.2%) and is cheaper than A + Y.
+  Planned still = plan_for(scene_path("fog_volumes"), 0.02, table, 320, 180);
+  REQUIRE(still.plan.facts.camera_static());
+  CHECK(chosen(still.plan, "fog") == "X");
+  CHECK(still.plan.predicted_error == doctest::Approx(0.017));
+  // The flythrough moves: X is 1% there, and A + Y it stays.
+  CHECK(chosen(plan_for(scene_path("fog_valley_flythrough"), 0.02, table, 320, 180).plan, "fog") == "Y");
+}
+
 TEST_CASE("auto plan: the scene decides the aerial-perspective range, twilight steps and the shadow distance") {
   const nlohmann::json table = synthetic_table();
   Planned p = plan_for(scene_path("fog_valley_flythrough"), 0.02, table);
