@@ -26,7 +26,7 @@ namespace cr {
 struct SkyStabilityOptions {
   int width = 16, height = 8;  // the panorama (sky_panorama.h)
   bool reference = true;       // render the reference and score against it
-  int spp = 256;               // the reference's paths per pixel
+  int spp = 512;               // the reference's paths per pixel
   uint64_t seed = 1;
   SpectralSampling sampling = rgb_sampling();  // the reference's wavelengths
 };

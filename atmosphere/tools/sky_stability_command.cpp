@@ -95,7 +95,7 @@ int sky_stability_command(const std::vector<std::string>& args) {
       .option("grid-altitude", "M", "camera altitude of the density and mie-g grids", "1")
       .option("width", "N", "panorama width", "16")
       .option("height", "N", "panorama height", "8")
-      .option("spp", "N", "reference paths per pixel", "256")
+      .option("spp", "N", "reference paths per pixel", "512")
       .option("seed", "N", "reference random seed", "1")
       .option("spectrum", "rgb|spectral", "the reference's spectrum (rgb: the LUTs' own wavelengths)", "rgb");
   if (!p.parse(args, 0, 0)) return 0;
