@@ -1,6 +1,5 @@
 #include "atmosphere/tools/sky_stability.h"
 
-#include <span>
 #include <vector>
 
 #include "atmosphere/planet_geometry.h"
@@ -15,11 +14,7 @@ namespace cr {
 
 namespace {
 
-size_t non_finite(const std::vector<glm::vec3>& v) {
-  return count_non_finite(std::span<const float>(&v.data()->x, v.size() * 3));
-}
-
-size_t non_finite(const LutImage& img) { return non_finite(img.texels); }
+size_t non_finite(const LutImage& img) { return count_non_finite(img.texels); }
 
 size_t non_finite_luts(const LutScheduler& s) {
   size_t n = non_finite(s.transmittance()->image());
@@ -74,8 +69,8 @@ SkyStabilityCell evaluate_sky_stability(const AtmosphereModel& model, const Atmo
   const LutScheduler& luts = *c.luts;
   cell.space = from_space;
   cell.non_finite_luts = non_finite_luts(luts);
-  cell.non_finite_sky = non_finite(sky);
-  cell.non_finite_geometry = non_finite(geometry);
+  cell.non_finite_sky = count_non_finite(sky);
+  cell.non_finite_geometry = count_non_finite(geometry);
   const MultiScatteringLut& ms = *luts.multiscattering();
   cell.ms_texels = ms.texel_count();
   cell.ms_clamped = size_t(ms.clamped_texels());
@@ -99,7 +94,7 @@ SkyStabilityCell evaluate_sky_stability(const AtmosphereModel& model, const Atmo
   const double r0 = now_ms();
   const ReferenceImage ref = render_reference(c.frame.model, view, rs, jobs, {});
   cell.ref_ms = now_ms() - r0;
-  cell.non_finite_reference = non_finite(ref.radiance) + count_non_finite(ref.noise);
+  cell.non_finite_reference = count_non_finite(ref.radiance) + count_non_finite(ref.noise);
   std::vector<float> sky_y(dirs.size()), ref_y(dirs.size());
   for (size_t i = 0; i < dirs.size(); ++i) {
     sky_y[i] = luminance(sky[i]);

@@ -11,6 +11,7 @@
 #include <utility>
 #include <vector>
 
+#include <glm/glm.hpp>
 #include <nlohmann/json.hpp>
 
 namespace cr {
@@ -54,11 +55,14 @@ nlohmann::json to_json(const StabilityMap& map);
 // Writes to_json(map) to `path` atomically.
 void write_stability_json(const std::string& path, const StabilityMap& map);
 
-// Non-finite values among `values`.
+// Non-finite values among `values` (or among the components of RGB values).
 inline size_t count_non_finite(std::span<const float> values) {
   size_t n = 0;
   for (float v : values) n += std::isfinite(v) ? 0 : 1;
   return n;
+}
+inline size_t count_non_finite(std::span<const glm::vec3> values) {
+  return count_non_finite(std::span<const float>(reinterpret_cast<const float*>(values.data()), values.size() * 3));
 }
 
 }  // namespace cr

@@ -33,17 +33,13 @@ Camera camera_at_frame(int f, int frames, float speed, int w, int h) {
   return Camera::look_at(pos, pos + glm::dvec3(0.3, 0.05, -1.0), glm::radians(60.0f), float(w) / float(h), 0.1f);
 }
 
-size_t non_finite(const std::vector<glm::vec3>& v) {
-  return count_non_finite(std::span<const float>(&v.data()->x, v.size() * 3));
-}
-
 size_t non_finite_volume(const FroxelFog& fog) {
   size_t n = 0;
   const FroxelGrid& g = fog.grid();
   for (size_t column = 0; column < g.columns(); ++column)
     for (int k = 0; k < fog.view().active_slices[column]; ++k) {
       const IntegratedFroxel f = fog.integrated_froxel(column * size_t(g.nz()) + size_t(k));
-      n += count_non_finite(std::span<const float>(&f.in_scatter.x, 3)) + (std::isfinite(f.transmittance) ? 0 : 1);
+      n += count_non_finite(std::span<const glm::vec3>(&f.in_scatter, 1)) + (std::isfinite(f.transmittance) ? 0 : 1);
     }
   return n;
 }
@@ -95,7 +91,7 @@ FogStabilityCell evaluate_fog_stability(const FogStabilityCase& c, const FogStab
     buffers.distance = distance;
     std::fill(buffers.color.begin(), buffers.color.end(), kBackground);
     fog.composite(buffers, 0, 0, w, h);
-    cell.non_finite += non_finite_volume(fog) + non_finite(buffers.color);
+    cell.non_finite += non_finite_volume(fog) + count_non_finite(buffers.color);
     const FroxelFogStats& s = fog.stats();
     if (s.history_used && s.reproject.reads > 0) {
       cell.history_rejected += double(s.reproject.rejected) / double(s.reproject.reads);
@@ -120,7 +116,7 @@ FogStabilityCell evaluate_fog_stability(const FogStabilityCase& c, const FogStab
   cell.ref_ms = ms_since(r0);
   const FogReferenceImage coarse = reference(std::max(1, options.samples / 2));
   const std::vector<glm::vec3> truth = composited(ref);
-  cell.non_finite_reference = non_finite(truth);
+  cell.non_finite_reference = count_non_finite(truth);
   cell.error = relative_luminance_error(truth, buffers.color);
   cell.noise = relative_luminance_error(truth, composited(coarse));
   return cell;
