@@ -102,6 +102,9 @@ class LutScheduler {
   std::shared_ptr<const SkyViewLut> skyview() const { return sv_.front; }
   std::shared_ptr<const AerialPerspectiveLut> aerial_perspective() const { return ap_.front; }
   uint64_t version(LutKind kind) const;  // publish count
+  // The explicit orders each wavelength group's multi-scattering LUT was
+  // chosen (empty before the first multi-scattering rebuild).
+  const std::vector<ExplicitOrderChoice>& multiscattering_orders() const { return ms_orders_; }
 
   // Figures of the last frame for the report (see report_frame).
   nlohmann::json report(const AtmospherePlan& plan) const;

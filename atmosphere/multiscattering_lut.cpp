@@ -310,6 +310,7 @@ ExplicitOrderChoice explicit_orders_for(const AtmosphereModel& model, int height
     ++c.orders;
     share *= fc;
   }
+  c.capped = share > tail_share;
   return c;
 }
 

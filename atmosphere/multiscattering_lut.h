@@ -89,6 +89,7 @@ enum MsMoment { kMsQuadXX, kMsQuadYY, kMsQuadXY, kMsFirstX, kMsFirstY, kMsMoment
 struct ExplicitOrderChoice {
   float max_fms = 0.0f;  // f (largest channel and row)
   int orders = 0;
+  bool capped = false;  // max_orders reached with the series' share still above tail_share
 };
 ExplicitOrderChoice explicit_orders_for(const AtmosphereModel& model, int height, int directions, int steps,
                                         float max_fms, int min_orders, int max_orders, float tail_share);

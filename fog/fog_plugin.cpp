@@ -148,6 +148,7 @@ void FogPlugin::report_frame(nlohmann::json& frame) {
   frame["history_used"] = s.history_used;
   frame["history_read_froxels"] = s.reproject.reads;
   frame["history_rejected_froxels"] = s.reproject.rejected;
+  frame["history_clamped_froxels"] = s.reproject.clamped;
   frame["light_changed"] = s.light_changed;
   frame["still_frames"] = s.still_frames;
   frame["filtered"] = s.filtered;

@@ -160,6 +160,7 @@ struct ReprojectStats {
   bool identity = false;       // same camera: history read in place
   size_t reads = 0;            // froxels whose history was looked up (with the clamp, those whose range is not one value)
   size_t rejected = 0;         // of those, the ones without history
+  size_t clamped = 0;          // of those, the ones whose history lay outside the 3x3 range (the clamp cut it)
 };
 ReprojectStats reproject_history(const FroxelView& view, const std::vector<float>& current,
                                  const FroxelView& history_view, const std::vector<float>& history,

@@ -139,7 +139,7 @@ ReprojectStats reproject(const FroxelView& view, const std::vector<V>& current, 
   const int nx = g.nx(), ny = g.ny(), nz = g.nz();
   std::vector<float> centers(static_cast<size_t>(nz));
   for (int k = 0; k < nz; ++k) centers[size_t(k)] = g.center(k);
-  std::vector<size_t> rejected_per_row(size_t(ny), 0), reads_per_row(size_t(ny), 0);
+  std::vector<size_t> rejected_per_row(size_t(ny), 0), reads_per_row(size_t(ny), 0), clamped_per_row(size_t(ny), 0);
   // Per column the slices are contiguous values, so the blends run as flat
   // loops the compiler vectorises.
   const V* cur_all = current.data();
@@ -176,7 +176,7 @@ ReprojectStats reproject(const FroxelView& view, const std::vector<V>& current, 
     std::vector<float> open_t(open.size());
     for (int y = int(begin); y < int(end); ++y) {
       // The row's counts, stored once (rows of other jobs share cache lines).
-      size_t reads = 0, rejected = 0;
+      size_t reads = 0, rejected = 0, clamped_count = 0;
       const int ya = std::max(y - 1, 0), yb = std::min(y + 1, ny - 1);
       const uint16_t* lit_row = lit_all + size_t(y) * nx;
       // The slices any of xc - 1, xc, xc + 1 produces.
@@ -254,6 +254,7 @@ ReprojectStats reproject(const FroxelView& view, const std::vector<V>& current, 
             const int j = open[size_t(i)];
             const V now = open_cur[size_t(i)];
             const V clamped = std::min(std::max(open_h[size_t(i)], open_lo[size_t(i)]), open_hi[size_t(i)]);
+            clamped_count += size_t(clamped != open_h[size_t(i)]);
             V v = F::lerp(now, clamped, w);
             if (change_all) {
               // The blend's history share scaled by 1 - the 3x3
@@ -299,6 +300,7 @@ ReprojectStats reproject(const FroxelView& view, const std::vector<V>& current, 
             const V l = std::min(std::min(lo[left + j], lo[mid + j]), lo[right + j]);
             const V u = std::max(std::max(hi[left + j], hi[mid + j]), hi[right + j]);
             const V clamped = std::min(std::max(hist[j], l), u);
+            clamped_count += size_t(clamped != hist[j]);
             dst[j] = F::lerp(cur[j], clamped, w);
           }
         } else {
@@ -316,10 +318,12 @@ ReprojectStats reproject(const FroxelView& view, const std::vector<V>& current, 
       }
       reads_per_row[size_t(y)] = reads;
       rejected_per_row[size_t(y)] = rejected;
+      clamped_per_row[size_t(y)] = clamped_count;
     }
   });
   for (size_t r : rejected_per_row) stats.rejected += r;
   for (size_t r : reads_per_row) stats.reads += r;
+  for (size_t r : clamped_per_row) stats.clamped += r;
   return stats;
 }
 

@@ -14,30 +14,16 @@
 #include "atmosphere/tools/reference_merge.h"
 #include "atmosphere/tools/reference_renderer.h"
 #include "atmosphere/tools/sky_case.h"
+#include "atmosphere/tools/sky_panorama.h"
 #include "atmosphere/tools/sky_commands.h"
 #include "engine/cli/cli_common.h"
 #include "engine/core/error.h"
 #include "engine/core/luminance.h"
-#include "engine/core/math_constants.h"
 #include "engine/output/exr_io.h"
 
 namespace cr {
 
 namespace {
-
-// Panorama directions: azimuth 0..360 deg from the sun's azimuth, elevation top_deg .. bottom_deg.
-std::vector<glm::vec3> panorama(int width, int height, double top_deg, double bottom_deg) {
-  std::vector<glm::vec3> d(size_t(width) * height);
-  for (int y = 0; y < height; ++y) {
-    const double e = (top_deg - (y + 0.5) / height * (top_deg - bottom_deg)) * kPiD / 180.0;
-    for (int x = 0; x < width; ++x) {
-      const double a = 2.0 * kPiD * (x + 0.5) / width;
-      d[size_t(y) * width + x] = glm::vec3(float(std::cos(e) * std::cos(a)), float(std::sin(e)),
-                                           float(std::cos(e) * std::sin(a)));
-    }
-  }
-  return d;
-}
 
 void write_radiance_exr(const std::string& path, const std::vector<glm::vec3>& px, int w, int h) {
   ExrImage img;
@@ -260,7 +246,7 @@ int sky_accuracy_command(const std::vector<std::string>& args) {
   for (double alt : altitudes) {
     // From space (the space fallback) the view is the planet and its limb: elevation 0 to -90 deg.
     const bool from_space = alt > full.space_altitude;
-    const std::vector<glm::vec3> dirs = from_space ? panorama(w, h, 0.0, -90.0) : panorama(w, h, 90.0, -10.0);
+    const std::vector<glm::vec3> dirs = accuracy_panorama(w, h, from_space);
     for (double zen : zeniths) {
       char name[128];
       std::snprintf(name, sizeof name, "sun%g_alt%g", zen, alt);
@@ -313,13 +299,7 @@ int sky_accuracy_command(const std::vector<std::string>& args) {
                               spectral, w, h);
       }
 
-      std::vector<bool> sky(dirs.size());
-      // Considered: sky above the horizon; from space, every direction that meets the atmosphere.
-      const float mu_top = -float(std::sqrt(std::max(0.0, 1.0 - std::pow(c.frame.model.top_radius / c.frame.camera_radius, 2))));
-      for (size_t i = 0; i < dirs.size(); ++i) {
-        const float mu = glm::dot(dirs[i], glm::vec3(0, 1, 0));
-        sky[i] = from_space ? mu < mu_top : mu > c.frame.mu_horizon;
-      }
+      const std::vector<bool> sky = scored_sky(c.frame, dirs, from_space);
       std::vector<float> lut_y(dirs.size());
       for (size_t i = 0; i < dirs.size(); ++i) lut_y[i] = luminance(lut[i]);
       const AccuracyScore es = score_accuracy(lut_y, ref_y, ref_noise, sky);

@@ -6,6 +6,7 @@
 //   sky-environment  the prefiltered specular environment against integrating the un-prefiltered sky
 //                    per roughness, its bake time (full, per slice, amortised) and what its schedule costs
 //   sky-luts         writes every LUT as EXR + false-colour PNG
+//   sky-stability    the error map over sun zenith, altitude, density and Mie g, with the fallbacks engaged
 // Each parses its options with ArgParser (--help lists them) and returns an exit code.
 #include <string>
 #include <vector>
@@ -18,7 +19,8 @@ int sky_accuracy_command(const std::vector<std::string>& args);
 int sky_bench_command(const std::vector<std::string>& args);
 int sky_environment_command(const std::vector<std::string>& args);
 int sky_luts_command(const std::vector<std::string>& args);
-// Adds the four commands.
+int sky_stability_command(const std::vector<std::string>& args);
+// Adds the five commands.
 void register_sky_commands(CommandRegistry& commands);
 
 }  // namespace cr

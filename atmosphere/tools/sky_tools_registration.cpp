@@ -9,6 +9,8 @@ void register_sky_commands(CommandRegistry& commands) {
   commands.add({"sky-environment", "sky: prefiltered specular environment accuracy vs brute force, bake and schedule cost",
                 sky_environment_command});
   commands.add({"sky-luts", "sky: write the four LUTs as EXR + false-colour PNG", sky_luts_command});
+  commands.add({"sky-stability", "sky: error map over sun, altitude, density and Mie g; fallbacks; non-finite values",
+                sky_stability_command});
 }
 
 }  // namespace cr

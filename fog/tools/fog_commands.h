@@ -16,7 +16,9 @@ int fog_accuracy_command(const std::vector<std::string>& args, const PluginRegis
 int fog_temporal_command(const std::vector<std::string>& args, const PluginRegistry& registry);
 // fog-bench SCENE [--profile P] [--resolution WxH] [--frames N] [--threads N] [--sun-turn DEG]
 int fog_bench_command(const std::vector<std::string>& args, const PluginRegistry& registry);
-// Adds fog-accuracy, fog-temporal and fog-bench.
+// fog-stability --out DIR [--grids medium,temporal] [--resolution WxH] [--frames N] [--samples S] [--threads N]
+int fog_stability_command(const std::vector<std::string>& args, const PluginRegistry& registry);
+// Adds fog-accuracy, fog-temporal, fog-bench and fog-stability.
 void register_fog_commands(CommandRegistry& commands, const PluginRegistry& plugins);
 
 }  // namespace cr

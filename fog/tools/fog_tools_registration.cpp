@@ -21,6 +21,8 @@ void register_fog_commands(CommandRegistry& commands, const PluginRegistry& plug
                        fog_temporal_command));
   commands.add(command("fog-bench", "fog pass times at the profile's resolution, 1 and all threads", plugins,
                        fog_bench_command));
+  commands.add(command("fog-stability", "fog error map over extinction, g, camera speed and history weight; rejection",
+                       plugins, fog_stability_command));
 }
 
 }  // namespace cr
