@@ -255,10 +255,15 @@ int sweep_command(const std::vector<std::string>& args, const PluginRegistry& re
     const PointResult r = render_point(scene, ref_profile, registry, width, height, threads, 0, warmup + frames);
     ref_image = r.last;
     ref_display = r.last_display;
+    // Float channels: a frame's radiance (the sun's disk) overflows half floats.
     for (const auto& [path, image] : {std::pair{ref_display_exr, &ref_display}, std::pair{ref_exr, &ref_image}}) {
-      ExrImage img;  // the linear one last: its presence means both are complete
-      img.color = *image;
-      write_exr(path, img);
+      std::vector<ExrChannel> channels;  // the linear one last: its presence means both are complete
+      for (int c = 0; c < 3; ++c) {
+        ExrChannel& ch = channels.emplace_back(ExrChannel{std::string(1, "RGB"[c]), ExrPixelType::Float, {}});
+        ch.values.resize(size_t(image->width) * size_t(image->height));
+        for (size_t i = 0; i < ch.values.size(); ++i) ch.values[i] = image->rgb[3 * i + size_t(c)];
+      }
+      write_exr_channels(path, image->width, image->height, channels);
     }
   }
 

@@ -140,6 +140,10 @@ TEST_CASE("sweep listed points: --point LABEL=PROFILE, a sweep file, auto points
     }
   const std::string csv = cr::read_file_bytes(out + "/sweep.csv");
   CHECK(csv.find("\ndesktop,") != std::string::npos);
+  // A second sweep reads the cached reference (float EXR): the same errors as the render it cached.
+  REQUIRE(cr::sweep_command(args, registry) == 0);
+  const nlohmann::json again = cr::load_json_file(out + "/sweep.json");
+  for (size_t i = 0; i < 3; ++i) CHECK(again["points"][i]["error"] == doc["points"][i]["error"]);
   // Two points of one name, and keys set on an auto point, are refused.
   CHECK_THROWS_AS(cr::sweep_command({scene, "--point", "a=desktop", "--point", "a=mobile", "--out", out}, registry),
                   cr::UsageError);

@@ -105,7 +105,7 @@ TEST_CASE("auto plan: the cheapest options whose errors sum within the budget, e
   CHECK(none.plan.meets_frame_budget);
 }
 
-TEST_CASE("auto plan: what the scene does not use costs nothing; still scenes pay LUTs once; costs scale with pixels") {
+TEST_CASE("auto plan: what the scene does not use costs nothing, still scenes pay LUTs once, costs scale with pixels") {
   const nlohmann::json table = synthetic_table();
   // No fog section: no fog passes, and the engine's cheap option now fits alone (1.5% + 0.1%).
   Planned sky = plan_for(scene_path("sky_earth_noon"), 0.02, table);
