@@ -38,32 +38,44 @@ std::vector<Upscaler::Taps> Upscaler::axis_taps(int source, int output) {
 
 void Upscaler::color(const std::vector<glm::vec3>& source, std::vector<glm::vec3>& out, JobSystem& jobs) const {
   out.resize(size_t(width_) * size_t(height_));
+  const size_t row_floats = 3 * size_t(width_);
   jobs.parallel_for("upscale", size_t(height_), kBandRows, [&](size_t y0, size_t y1) {
-    // The band's source rows are filtered horizontally once (rows are
-    // non-decreasing in y), then combined vertically per output row.
+    // The band's source rows (non-decreasing in y) are filtered horizontally
+    // once, with each output column's min and max of its two bracketing
+    // pixels; the vertical filter and the clamp are then float loops over
+    // whole rows, which vectorise.
     const int r0 = rows_[y0].index[0], r1 = rows_[y1 - 1].index[3] + 1;
-    std::vector<glm::vec3> filtered(size_t(r1 - r0) * size_t(width_));
+    thread_local std::vector<float> filtered, lo, hi;  // reused: no allocation or page faults per band
+    const size_t floats = size_t(r1 - r0) * row_floats;
+    if (filtered.size() < floats) {
+      filtered.resize(floats);
+      lo.resize(floats);
+      hi.resize(floats);
+    }
     for (int r = r0; r < r1; ++r) {
-      const glm::vec3* src = &source[size_t(r) * size_t(source_width_)];
-      glm::vec3* dst = &filtered[size_t(r - r0) * size_t(width_)];
+      const float* src = &source[size_t(r) * size_t(source_width_)][0];
+      const size_t row = size_t(r - r0) * row_floats;
       for (int x = 0; x < width_; ++x) {
         const Taps& c = columns_[size_t(x)];
-        dst[x] = src[c.index[0]] * c.weight[0] + src[c.index[1]] * c.weight[1] + src[c.index[2]] * c.weight[2] +
-                 src[c.index[3]] * c.weight[3];
+        for (int ch = 0; ch < 3; ++ch) {
+          const float a = src[3 * c.index[0] + ch], b = src[3 * c.index[1] + ch], d = src[3 * c.index[2] + ch],
+                      e = src[3 * c.index[3] + ch];
+          const size_t i = row + 3 * size_t(x) + size_t(ch);
+          filtered[i] = a * c.weight[0] + b * c.weight[1] + d * c.weight[2] + e * c.weight[3];
+          lo[i] = std::min(b, d);
+          hi[i] = std::max(b, d);
+        }
       }
     }
     for (size_t y = y0; y < y1; ++y) {
       const Taps& t = rows_[y];
-      const glm::vec3* f[4];
-      for (int k = 0; k < 4; ++k) f[k] = &filtered[size_t(t.index[k] - r0) * size_t(width_)];
-      const glm::vec3* above = &source[size_t(t.index[1]) * size_t(source_width_)];
-      const glm::vec3* below = &source[size_t(t.index[2]) * size_t(source_width_)];
-      glm::vec3* dst = &out[y * size_t(width_)];
-      for (int x = 0; x < width_; ++x) {
-        const glm::vec3 v = f[0][x] * t.weight[0] + f[1][x] * t.weight[1] + f[2][x] * t.weight[2] + f[3][x] * t.weight[3];
-        const Taps& c = columns_[size_t(x)];
-        const glm::vec3 a = above[c.index[1]], b = above[c.index[2]], d = below[c.index[1]], e = below[c.index[2]];
-        dst[x] = glm::clamp(v, glm::min(glm::min(a, b), glm::min(d, e)), glm::max(glm::max(a, b), glm::max(d, e)));
+      const auto row = [&](const std::vector<float>& v, int k) { return &v[size_t(t.index[k] - r0) * row_floats]; };
+      const float *f0 = row(filtered, 0), *f1 = row(filtered, 1), *f2 = row(filtered, 2), *f3 = row(filtered, 3);
+      const float *lo1 = row(lo, 1), *lo2 = row(lo, 2), *hi1 = row(hi, 1), *hi2 = row(hi, 2);
+      float* dst = &out[y * size_t(width_)][0];
+      for (size_t i = 0; i < row_floats; ++i) {
+        const float v = f0[i] * t.weight[0] + f1[i] * t.weight[1] + f2[i] * t.weight[2] + f3[i] * t.weight[3];
+        dst[i] = std::min(std::max(v, std::min(lo1[i], lo2[i])), std::max(hi1[i], hi2[i]));
       }
     }
   });
