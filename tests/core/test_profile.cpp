@@ -127,7 +127,7 @@ TEST_CASE("profile: precision names the resolve's kernel and the depth format, a
   CHECK(parse_error({{"precision", "fixed"}}).find("precision") != std::string::npos);
 }
 
-TEST_CASE("profile: render_scale is a number in [0.25, 1] that sets the internal size; anything else names the key") {
+TEST_CASE("profile: render_scale is a number in [0.25, 1] that sets the internal size, anything else names the key") {
   const cr::Profile defaults = cr::parse_profile(nlohmann::json::object(), "inline.json", kPlugins);
   CHECK(defaults.render_scale == 1.0f);
   CHECK_FALSE(defaults.scaled());

@@ -124,7 +124,7 @@ TEST_CASE("upscale: the clamp keeps every pixel within its 2x2 source neighbourh
   CHECK(clamped > 0);  // noise rings: some channels were clamped
 }
 
-TEST_CASE("upscale: colour and nearest depth are bit-identical for 1, 2 and 5 threads; depth is a source sample") {
+TEST_CASE("upscale: colour and nearest depth are bit-identical for 1, 2 and 5 threads, depth is a source sample") {
   const Image img = random_image(91, 53, 11);
   const int w = 182, h = 107;
   const std::vector<glm::vec3> one = upscale(img, w, h, 1);
