@@ -33,8 +33,10 @@ void FogPlugin::estimate_memory(const SceneDescription& description, const Profi
     return;
   FogProfileSettings p;
   if (profile.plugins.contains("fog")) p = parse_fog_profile(profile.plugins.at("fog"), profile.path);
-  const size_t columns = saturating_product({size_t((profile.width + p.froxel_size_px - 1) / p.froxel_size_px),
-                                             size_t((profile.height + p.froxel_size_px - 1) / p.froxel_size_px)});
+  // The grid covers the internal size the scene renders at (render_scale).
+  const size_t columns =
+      saturating_product({size_t((profile.render_width() + p.froxel_size_px - 1) / p.froxel_size_px),
+                           size_t((profile.render_height() + p.froxel_size_px - 1) / p.froxel_size_px)});
   // Per froxel: density, the integrated froxel and its sun knot, and ten
   // float planes (sun visibility now, two histories, filter scratch and
   // result, the still mean, light change, integrated visibility, masks);

@@ -94,6 +94,9 @@ int antialiasing_command(const std::vector<std::string>& args, const PluginRegis
   const int k = p.get_int("factor", 1, 8);
   const int timing_frames = p.get_int("timing-frames", 0, 10000);
   const int rounds = p.get_int("rounds", 1, 100);
+  // Edges are found and measured at the pixels the scene renders at.
+  if (setup.profile.scaled())
+    throw InputError(setup.profile.path, "render_scale: aa-error measures edges at the output size; it must be 1");
   const int w = setup.profile.width, h = setup.profile.height;
   if (size_t(w) * k > size_t(kMaxImageSize) || size_t(h) * k > size_t(kMaxImageSize))
     throw UsageError("aa-error: the reference would be " + std::to_string(w * k) + "x" + std::to_string(h * k) +

@@ -168,6 +168,8 @@ RunReport make_run_report(const RunSetup& setup, const JobSystem& jobs) {
   r.extra["memory_estimate_bytes"] = setup.memory.total();
   r.extra["memory_limit_bytes"] = setup.memory.limit();
   if (setup.plan) r.extra["plan"] = setup.plan->to_json();
+  if (setup.profile.scaled())  // the resolution above is the output's; the scene renders at this size
+    r.extra["render_resolution"] = {{"width", setup.profile.render_width()}, {"height", setup.profile.render_height()}};
   return r;
 }
 

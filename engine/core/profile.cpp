@@ -1,6 +1,7 @@
 #include "engine/core/profile.h"
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 
 #include "engine/core/error.h"
@@ -13,6 +14,10 @@ namespace {
 bool is_power_of_two(int v) { return v > 0 && (v & (v - 1)) == 0; }
 
 }  // namespace
+
+int Profile::scaled_extent(int extent, float scale) {
+  return std::max(1, int(std::lround(double(scale) * double(extent))));
+}
 
 Profile parse_profile(const nlohmann::json& doc, const std::string& path,
                       const std::vector<std::string>& plugin_sections) {
@@ -48,6 +53,8 @@ Profile parse_profile(const nlohmann::json& doc, const std::string& path,
       p.shadow_pcf_radius = root.integer("shadow_pcf_radius", 0, 4);
     } else if (key == "texture_decode_budget_mb") {
       p.texture_decode_budget_mb = root.integer("texture_decode_budget_mb", 0, 1 << 20);
+    } else if (key == "render_scale") {
+      p.render_scale = static_cast<float>(root.number("render_scale", {0.25, 1.0}));
     } else if (key == "frame_budget_ms") {
       p.frame_budget_ms = static_cast<float>(root.number("frame_budget_ms", {0.0, 1e9, true}));
     } else if (key == "antialiasing") {
@@ -85,7 +92,8 @@ Profile parse_profile(const nlohmann::json& doc, const std::string& path,
       p.plugins[key] = doc.at(key);  // validated by the plugin that owns the section
     } else {
       std::string allowed = "name, resolution, tile_size, shadow_map_size, shadow_distance, "
-                            "shadow_pcf_radius, frame_budget_ms, texture_decode_budget_mb, antialiasing, precision";
+                            "shadow_pcf_radius, render_scale, frame_budget_ms, texture_decode_budget_mb, antialiasing, "
+                            "precision";
       for (const std::string& s : plugin_sections) allowed += ", " + s;
       throw InputError(path, "unknown key '" + key + "' (allowed: " + allowed + ")");
     }

@@ -28,6 +28,10 @@ struct Profile {
   // chains exceed it, the largest drop their top levels until they fit
   // (GltfLoadOptions::texture_decode_budget), with a warning naming each.
   int texture_decode_budget_mb = 512;
+  // Dynamic resolution: the scene renders at render_width() x render_height()
+  // and is upscaled to width x height before the display transform
+  // (engine/render/upscale.h). In [0.25, 1]; 1 renders at the output size.
+  float render_scale = 1.0f;
   // Anti-aliasing ("antialiasing": "none" | "msaa2" | "msaa4" | "msaa8"):
   // coverage and depth samples per pixel of the visibility buffer (1 = none).
   int msaa_samples = 1;
@@ -44,6 +48,13 @@ struct Profile {
   // varyings); positions and UV derivatives stay float.
   bool half_attributes = false;
   nlohmann::json plugins = nlohmann::json::object();  // raw plugin sections by name
+
+  // The internal size: round(render_scale * width) x round(render_scale * height), at least 1x1.
+  int render_width() const { return scaled_extent(width, render_scale); }
+  int render_height() const { return scaled_extent(height, render_scale); }
+  // Whether the internal size differs from the output's (an upscale runs).
+  bool scaled() const { return render_width() != width || render_height() != height; }
+  static int scaled_extent(int extent, float scale);
 };
 
 // Loads and validates a profile file. `plugin_sections` lists the section

@@ -1,5 +1,6 @@
 #pragma once
-// Per-frame full-resolution buffers. Colour is linear HDR radiance (cd/m^2)
+// Per-frame buffers of one size: the output's or, with a render scale below
+// 1, the internal one the scene renders at. Colour is linear HDR radiance (cd/m^2)
 // before exposure. Row-major, y down, index = y * width + x.
 #include <cstdint>
 #include <limits>
@@ -35,13 +36,15 @@ struct FrameBuffers {
   // needs) and color is replaced by the fragments' resolve.
   std::vector<EdgeFragment> fragments;
 
-  void resize(int w, int h) {
+  // `with_display` false: no display image (internal buffers that are
+  // upscaled before the display transform).
+  void resize(int w, int h, bool with_display = true) {
     width = w;
     height = h;
     color.assign(size_t(w) * h, glm::vec3(0.0f));
     depth.assign(size_t(w) * h, 0.0f);
     distance.assign(size_t(w) * h, std::numeric_limits<float>::infinity());
-    display.assign(size_t(w) * h * 3, 0);
+    display.assign(with_display ? size_t(w) * h * 3 : 0, 0);
     fragments.clear();
   }
   size_t index(int x, int y) const { return size_t(y) * width + x; }

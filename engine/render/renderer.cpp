@@ -8,6 +8,7 @@
 #include "engine/render/passes/draw_materials.h"
 #include "engine/render/passes/engine_passes.h"
 #include "engine/render/passes/surface_lookup.h"
+#include "engine/render/upscale.h"
 
 namespace cr {
 
@@ -34,6 +35,10 @@ Renderer::Renderer(const Scene& scene, const SceneDescription& description, cons
   for (const Draw& d : scene.draws)
     if (material_of(scene, scene.primitive(d)).alpha_mode == AlphaMode::Blend) has_blended_draws_ = true;
   buffers_.resize(profile.width, profile.height);
+  if (profile.scaled()) {
+    internal_.resize(profile.render_width(), profile.render_height(), false);
+    upscaler_ = std::make_unique<Upscaler>(internal_.width, internal_.height, buffers_.width, buffers_.height);
+  }
 }
 
 Renderer::~Renderer() = default;
@@ -47,7 +52,12 @@ std::vector<int32_t> Renderer::pixel_draws() const {
 }
 
 FrameView Renderer::frame_view(int frame) const {
-  return make_frame_view(scene_, description_, frame, profile_.width, profile_.height);
+  FrameView view = make_frame_view(scene_, description_, frame, profile_.width, profile_.height);
+  // The camera keeps the output's aspect ratio: the upscale stretches each
+  // axis back to the output, so rounding the internal size distorts nothing.
+  view.width = profile_.render_width();
+  view.height = profile_.render_height();
+  return view;
 }
 
 Plugin* Renderer::plugin(const std::string& name) const {
@@ -77,11 +87,12 @@ const FrameRecord& Renderer::render_frame(int frame) {
   engine.light = graph.create("light_environment", light_);
   engine.shadow = graph.import("shadow_map", shadow_);
   engine.previous_shadow = graph.import("previous_shadow_map", previous_shadow_);
-  engine.depth = graph.create("depth", buffers_);
-  engine.distance = graph.create("distance", buffers_);
+  FrameBuffers& scene_buffers = upscaler_ ? internal_ : buffers_;  // what the scene renders into
+  engine.depth = graph.create("depth", scene_buffers);
+  engine.distance = graph.create("distance", scene_buffers);
   EngineTargets targets;
   targets.visibility = graph.create("visibility", *visibility_);
-  targets.color = graph.create("hdr_color", buffers_);
+  targets.color = graph.create("hdr_color", scene_buffers);
   targets.display = graph.create("frame", buffers_);
 
   add_light_pass(graph, ctx, engine);
@@ -106,6 +117,8 @@ const FrameRecord& Renderer::render_frame(int frame) {
   add_shade_pass(graph, ctx, *surfaces_, engine, targets, !background_composited, pixels_shaded_);
   if (has_blended_draws_) add_transparent_pass(graph, ctx, *surfaces_, engine, targets);
   if (!compositors.empty()) add_composite_pass(graph, compositors, engine, targets);
+  if (upscaler_)
+    add_upscale_pass(graph, *upscaler_, engine, targets, graph.create("upscaled", buffers_), keep_view_distances_);
   add_resolve_pass(graph, ctx, display_, fixed_display_, targets);
   graph.mark_output(targets.display);
   if (keep_view_distances_) graph.mark_output(engine.distance);
@@ -132,7 +145,7 @@ const FrameRecord& Renderer::render_frame(int frame) {
                     {"triangles_clipped", st.triangles_clipped}, {"triangles_visible", st.triangles_visible},
                     {"tile_triangle_pairs", st.tile_triangle_pairs}, {"pixels_covered", st.pixels_covered},
                     {"pixels_shaded", pixels_shaded_},
-                    {"msaa_mixed_pixels", mixed_pixels}, {"edge_fragments", buffers_.fragments.size()},
+                    {"msaa_mixed_pixels", mixed_pixels}, {"edge_fragments", scene_buffers.fragments.size()},
                     {"draws_in_view", vis.opaque.size() + vis.blended.size()},
                     {"shadow_casters", shadow_state_->casters.size()}, {"shadow_map_reused", shadow_state_->reused}};
   for (auto& p : plugins_) p->report_frame(record_.plugins[p->name()]);

@@ -27,6 +27,7 @@ class DisplayTransform;
 class Hdr16Display;
 struct ShadowPassState;
 class SurfaceLookup;
+class Upscaler;
 struct Visibility;
 
 // Timing of one rendered frame and its rasterizer counts.
@@ -41,7 +42,8 @@ class Renderer {
            std::vector<std::unique_ptr<Plugin>> plugins, JobSystem& jobs);
   ~Renderer();
 
-  // The camera and sun of a frame (pure function of the scene description).
+  // The camera and sun of a frame (pure function of the scene description),
+  // at the internal size the scene renders at (Profile::render_width()).
   FrameView frame_view(int frame) const;
   // Renders one frame into buffers(); returns its timing record.
   const FrameRecord& render_frame(int frame);
@@ -53,9 +55,14 @@ class Renderer {
   // buffers().distance is computed only for frames whose passes read it (sky,
   // fog) unless kept; otherwise it holds +inf.
   void keep_view_distances(bool keep) { keep_view_distances_ = keep; }
+  // The frame at the output size. With the profile's render_scale below 1
+  // the scene renders into internal buffers (frame_view()'s size) and these
+  // hold the upscale: colour filtered, depth and distance the nearest
+  // internal pixel's, no edge fragments.
   const FrameBuffers& buffers() const { return buffers_; }
   // The draw (index into Scene::draws) the last frame's pixels see at their
-  // first sample; -1 where nothing was drawn (for tools that find edges).
+  // first sample, at the internal size; -1 where nothing was drawn (for
+  // tools that find edges).
   std::vector<int32_t> pixel_draws() const;
   const ShadowMap& shadow_map() const { return shadow_; }
   // Last frame's map where this frame's is a new render, else size 0.
@@ -71,7 +78,9 @@ class Renderer {
   JobSystem& jobs_;
   std::vector<std::unique_ptr<Plugin>> plugins_;
   Plugin* light_provider_ = nullptr;  // the plugin providing the light environment, if any
-  FrameBuffers buffers_;
+  FrameBuffers buffers_;                     // at the output size
+  FrameBuffers internal_;                    // at the internal size, when it differs
+  std::unique_ptr<Upscaler> upscaler_;       // from internal_ to buffers_; null at the output size
   ShadowMap shadow_, previous_shadow_;
   LightEnvironment light_;
   std::unique_ptr<Visibility> visibility_;         // the geometry pass's rasterizer and draws

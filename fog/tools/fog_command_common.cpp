@@ -36,6 +36,9 @@ FogRun load_fog_run(const ArgParser& args, const PluginRegistry& registry) {
   run.profile = load_profile(resolve_profile_path(args.get("profile")), sections);
   if (args.has("resolution"))
     std::tie(run.profile.width, run.profile.height) = parse_resolution(args.get("resolution"), "fog");
+  // The tools composite the fog over the base renderer's output-size buffers.
+  if (run.profile.scaled())
+    throw InputError(run.profile.path, "render_scale: the fog tools measure at the output size; it must be 1");
   const std::string& scene = args.positional().at(0);
   run.description = load_scene_description(scene, sections, scene_asset_dirs());
   if (!run.description.plugins.contains("fog"))

@@ -126,3 +126,32 @@ TEST_CASE("profile: precision names the resolve's kernel and the depth format, a
   CHECK(parse_error({{"precision", {{"stencil", "x"}}}}).find("stencil") != std::string::npos);
   CHECK(parse_error({{"precision", "fixed"}}).find("precision") != std::string::npos);
 }
+
+TEST_CASE("profile: render_scale is a number in [0.25, 1] that sets the internal size, anything else names the key") {
+  const cr::Profile defaults = cr::parse_profile(nlohmann::json::object(), "inline.json", kPlugins);
+  CHECK(defaults.render_scale == 1.0f);
+  CHECK_FALSE(defaults.scaled());
+  const cr::Profile half = cr::parse_profile({{"render_scale", 0.5}, {"resolution", {1280, 720}}}, "inline.json", kPlugins);
+  CHECK(half.render_width() == 640);
+  CHECK(half.render_height() == 360);
+  CHECK(half.scaled());
+  // round(0.3 * 101) = 30, round(0.3 * 5) = 2; never below 1.
+  const cr::Profile odd = cr::parse_profile({{"render_scale", 0.3}, {"resolution", {101, 5}}}, "inline.json", kPlugins);
+  CHECK(odd.render_width() == 30);
+  CHECK(odd.render_height() == 2);
+  CHECK(cr::parse_profile({{"render_scale", 0.25}, {"resolution", {3, 1}}}, "inline.json", kPlugins).render_height() == 1);
+  CHECK(cr::parse_profile({{"render_scale", 1}}, "inline.json", kPlugins).render_scale == 1.0f);
+  for (const nlohmann::json& bad : {nlohmann::json(0.2), nlohmann::json(1.01), nlohmann::json(0), nlohmann::json(-0.5)}) {
+    const std::string e = parse_error({{"render_scale", bad}});
+    CAPTURE(e);
+    CHECK(e.find("'render_scale'") != std::string::npos);
+    CHECK(e.find("[0.25, 1]") != std::string::npos);
+  }
+  for (const nlohmann::json& bad : {nlohmann::json("half"), nlohmann::json(true), nlohmann::json::array({0.5})}) {
+    const std::string e = parse_error({{"render_scale", bad}});
+    CAPTURE(e);
+    CHECK(e.find("'render_scale'") != std::string::npos);
+    CHECK(e.find("must be a number") != std::string::npos);
+  }
+  CHECK(parse_error({{"render_scael", 0.5}}).find("render_scale") != std::string::npos);  // listed among the allowed keys
+}

@@ -1,6 +1,6 @@
 #pragma once
 // The engine's own passes, one file each: light, shadow, geometry, shade,
-// transparent, composite, resolve. Each adds itself to the frame graph,
+// transparent, composite, upscale, resolve. Each adds itself to the frame graph,
 // reads and writes the engine's resources through their handles, and keeps
 // what it reuses across frames in the state struct it is given.
 #include <cstdint>
@@ -21,6 +21,7 @@ namespace cr {
 class DisplayTransform;
 class Hdr16Display;
 class SurfaceLookup;
+class Upscaler;
 
 // The camera's visibility: the rasterizer (visibility buffer, bins), the
 // frame's draws in view (the blended ones back to front), its counts and,
@@ -44,7 +45,9 @@ struct ShadowPassState {
 // The engine's resources that plugins do not see.
 struct EngineTargets {
   FrameGraphId<Visibility> visibility;
-  FrameGraphId<FrameBuffers> color;    // FrameBuffers::color and the edge fragments' colours
+  // FrameBuffers::color and the edge fragments' colours: the internal
+  // buffers', after an upscale the output buffers'.
+  FrameGraphId<FrameBuffers> color;
   FrameGraphId<FrameBuffers> display;  // FrameBuffers::display
 };
 
@@ -78,6 +81,12 @@ void add_transparent_pass(FrameGraph& graph, const FrameContext& ctx, const Surf
 // "composite": the plugins' per-pixel composites, in their order.
 void add_composite_pass(FrameGraph& graph, const std::vector<Plugin*>& compositors, const EngineResources& engine,
                         EngineTargets& targets);
+// "upscale" (an internal size below the output's): the internal colour's
+// edge fragments into their pixels, then colour, depth and, when
+// `distances`, distance upscaled into `output` (the output-size buffers),
+// which targets.color names afterwards.
+void add_upscale_pass(FrameGraph& graph, const Upscaler& upscaler, const EngineResources& engine,
+                      EngineTargets& targets, FrameGraphId<FrameBuffers> output, bool distances);
 // "resolve": edge fragments into their pixels, exposure, tonemap, 8-bit sRGB.
 // `display` (and, for the profile's fixed-point resolve, `fixed_display`)
 // is rebuilt when the exposure changes.
