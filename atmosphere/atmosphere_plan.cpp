@@ -16,7 +16,6 @@ namespace {
 // Sky-view steps where the sun grazes the horizon: the in-scatter along long
 // grazing paths changes over a few km that 14 steps at most skip.
 constexpr int kTwilightSkyviewMaxSteps = 32;
-constexpr double kTwilightElevationDeg = 6.0;
 // Margin past the farthest geometry, so the last slices are not stretched over it.
 constexpr double kApRangeMargin = 1.25;
 
@@ -66,10 +65,10 @@ ModulePlan AtmospherePlugin::plan(const PlanContext& ctx) const {
                                 ": the aerial-perspective slices end at " + km(rounded * base.ap_depth) +
                                 " instead of " + km(double(base.ap_km_per_slice) * base.ap_depth)});
   }
-  if (f.min_sun_elevation_deg < kTwilightElevationDeg && base.skyview_max_steps < kTwilightSkyviewMaxSteps)
+  if (f.twilight() && base.skyview_max_steps < kTwilightSkyviewMaxSteps)
     m.settings.push_back({"atmosphere.skyview_lut.max_steps", kTwilightSkyviewMaxSteps,
-                          "the sun comes within " + std::to_string(int(kTwilightElevationDeg)) +
-                              " degrees of the horizon: more sky-view steps along the long grazing paths"});
+                          "the sun comes within 6 degrees of the horizon: more sky-view steps along the long "
+                          "grazing paths"});
   return m;
 }
 

@@ -1,5 +1,6 @@
 #include "engine/planning/auto_plan.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -40,9 +41,13 @@ double predicted_cost(const PlanOption& o, const PlanTable& table, const std::st
   return c;
 }
 
-// Its error for this scene: the still-scene figure where camera and sun hold still.
+// Its error for this scene: the largest measured on table scenes of its kind
+// (moving or still, twilight or day), else the largest over all.
 double predicted_error(const PlanOption& o, const SceneFacts& f) {
-  return f.camera_static() && f.sun_static() && o.static_error ? *o.static_error : o.error;
+  double e = -1.0;
+  for (const PlanOption::SceneError& m : o.errors)
+    if (m.moving == f.moving() && m.twilight == f.twilight()) e = std::max(e, m.error);
+  return e >= 0.0 ? e : o.error;
 }
 
 }  // namespace

@@ -31,6 +31,10 @@ struct SceneFacts {
   bool has_geometry = false;
   bool camera_static() const { return max_camera_speed_m == 0.0 && max_camera_turn_deg == 0.0; }
   bool sun_static() const { return max_sun_turn_deg == 0.0; }
+  bool moving() const { return !camera_static() || !sun_static(); }
+  // The sun within 6 degrees of the horizon (or below) at some frame: long
+  // grazing paths, where the sky's methods err most.
+  bool twilight() const { return min_sun_elevation_deg < 6.0; }
   nlohmann::json to_json() const;
 };
 
@@ -44,8 +48,16 @@ struct PlanOption {
   // Its cost where the camera and the sun hold still (work that only
   // changing inputs trigger is then done once); unknown: cost_ms.
   std::optional<double> static_cost_ms;
-  // Its error there (temporal accumulation converges in a still view); unknown: error.
-  std::optional<double> static_error;
+  // Its error measured per table scene, with the scene's kind: the planner
+  // takes the largest over the scenes of the planned scene's kind (moving or
+  // still, twilight or day), else `error`, the largest over all.
+  struct SceneError {
+    std::string scene;
+    bool moving = false;
+    bool twilight = false;
+    double error = 0.0;
+  };
+  std::vector<SceneError> errors;
 };
 
 // A setting the scene decides, whatever option is chosen, and why.

@@ -9,6 +9,7 @@
 #include "engine/render/passes/engine_passes.h"
 #include "engine/render/passes/surface_lookup.h"
 #include "engine/render/upscale.h"
+#include "engine/shading/tonemap.h"
 
 namespace cr {
 
@@ -118,7 +119,8 @@ const FrameRecord& Renderer::render_frame(int frame) {
   if (has_blended_draws_) add_transparent_pass(graph, ctx, *surfaces_, engine, targets);
   if (!compositors.empty()) add_composite_pass(graph, compositors, engine, targets);
   if (upscaler_)
-    add_upscale_pass(graph, *upscaler_, engine, targets, graph.create("upscaled", buffers_), keep_view_distances_);
+    add_upscale_pass(graph, *upscaler_, engine, targets, graph.create("upscaled", buffers_), keep_view_distances_,
+                     exposure_scale(ctx.description.exposure_ev100));
   add_resolve_pass(graph, ctx, display_, fixed_display_, targets);
   graph.mark_output(targets.display);
   if (keep_view_distances_) graph.mark_output(engine.distance);

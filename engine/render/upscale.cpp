@@ -9,6 +9,13 @@ namespace {
 
 constexpr size_t kBandRows = 16;  // output rows per job
 
+// Rec. 709 luminance weights of linear sRGB.
+float luminance(const float* c) { return 0.2126f * c[0] + 0.7152f * c[1] + 0.0722f * c[2]; }
+
+// The inverse's denominator never reaches 0: per-channel clamps may combine
+// channels of different pixels into a luminance just above 1.
+constexpr float kMinInverse = 1.0f / 65536.0f;
+
 }  // namespace
 
 Upscaler::Upscaler(int source_width, int source_height, int width, int height)
@@ -36,7 +43,8 @@ std::vector<Upscaler::Taps> Upscaler::axis_taps(int source, int output) {
   return taps;
 }
 
-void Upscaler::color(const std::vector<glm::vec3>& source, std::vector<glm::vec3>& out, JobSystem& jobs) const {
+void Upscaler::color(const std::vector<glm::vec3>& source, std::vector<glm::vec3>& out, JobSystem& jobs,
+                     float exposure) const {
   out.resize(size_t(width_) * size_t(height_));
   const size_t row_floats = 3 * size_t(width_);
   jobs.parallel_for("upscale", size_t(height_), kBandRows, [&](size_t y0, size_t y1) {
@@ -52,8 +60,18 @@ void Upscaler::color(const std::vector<glm::vec3>& source, std::vector<glm::vec3
       lo.resize(floats);
       hi.resize(floats);
     }
+    thread_local std::vector<float> compressed;
+    if (exposure > 0.0f) compressed.resize(3 * size_t(source_width_));
     for (int r = r0; r < r1; ++r) {
       const float* src = &source[size_t(r) * size_t(source_width_)][0];
+      if (exposure > 0.0f) {  // the source row through the reversible tonemap
+        for (int x = 0; x < source_width_; ++x) {
+          const float* c = src + 3 * x;
+          const float s = 1.0f / (1.0f + exposure * luminance(c));
+          for (int ch = 0; ch < 3; ++ch) compressed[3 * size_t(x) + size_t(ch)] = c[ch] * s;
+        }
+        src = compressed.data();
+      }
       const size_t row = size_t(r - r0) * row_floats;
       for (int x = 0; x < width_; ++x) {
         const Taps& c = columns_[size_t(x)];
@@ -77,6 +95,12 @@ void Upscaler::color(const std::vector<glm::vec3>& source, std::vector<glm::vec3
         const float v = f0[i] * t.weight[0] + f1[i] * t.weight[1] + f2[i] * t.weight[2] + f3[i] * t.weight[3];
         dst[i] = std::min(std::max(v, std::min(lo1[i], lo2[i])), std::max(hi1[i], hi2[i]));
       }
+      if (exposure > 0.0f)
+        for (int x = 0; x < width_; ++x) {
+          float* c = dst + 3 * x;
+          const float s = 1.0f / std::max(1.0f - exposure * luminance(c), kMinInverse);
+          for (int ch = 0; ch < 3; ++ch) c[ch] *= s;
+        }
     }
   });
 }

@@ -147,3 +147,29 @@ TEST_CASE("upscale: colour and nearest depth are bit-identical for 1, 2 and 5 th
       REQUIRE(d1[size_t(y) * size_t(w) + size_t(x)] == float(sy * img.width + sx));
     }
 }
+
+TEST_CASE("upscale: through the reversible tonemap a sun-bright pixel does not spill its radiance over its neighbours") {
+  // A sky of 1 with one pixel 10^6 brighter (the sun's disk against the sky, exposed).
+  Image img{16, 16, std::vector<glm::vec3>(256, glm::vec3(1.0f))};
+  img.rgb[8 * 16 + 8] = glm::vec3(1e6f);
+  const int w = 21, h = 21;  // a non-integer ratio: every output pixel between source centres
+  cr::JobSystem jobs(2);
+  std::vector<glm::vec3> linear, tonemapped;
+  const cr::Upscaler up(img.width, img.height, w, h);
+  up.color(img.rgb, linear, jobs, 0.0f);
+  up.color(img.rgb, tonemapped, jobs, 1.0f);
+  double spill_linear = 0.0, spill_tonemapped = 0.0;
+  int untouched = 0;
+  for (size_t i = 0; i < linear.size(); ++i) {
+    spill_linear += linear[i].g - 1.0;
+    spill_tonemapped += tonemapped[i].g - 1.0;
+    CHECK(tonemapped[i].g >= 1.0f - 1e-6f);  // the clamp still holds: nothing below the sky
+    CHECK(tonemapped[i].g <= 1e6f);
+    untouched += std::abs(tonemapped[i].g - 1.0f) <= 1e-6f;
+  }
+  // Linear filtering spreads on the order of the spike's energy; the tonemapped filter a few sky units.
+  CHECK(spill_linear > 1e5);
+  CHECK(spill_tonemapped < 1e-3 * spill_linear);
+  // Pixels away from the spike come back as the sky they were (to float rounding).
+  CHECK(untouched > w * h - 16);
+}

@@ -123,15 +123,23 @@ TEST_CASE("auto plan: what the scene does not use costs nothing, still scenes pa
   CHECK(small.plan.predicted_ms == doctest::Approx(2.5 + 0.1));
 }
 
-TEST_CASE("auto plan: still scenes are planned with the still-scene errors (temporal accumulation converges)") {
+TEST_CASE("auto plan: an option's error is the largest measured on table scenes of the planned scene's kind") {
   nlohmann::json table = synthetic_table();
-  table["modules"]["fog"]["options"][0]["static_error"] = 0.002;  // X: 1% moving, 0.2% still
-  // fog_volumes holds camera and sun still: A + X fits (1.5% + 0.2%) and is cheaper than A + Y.
+  // X: 0.2% on still day scenes, 1% (its "error") elsewhere.
+  table["modules"]["fog"]["options"][0]["errors"] = {
+      {{"scene", "a"}, {"moving", false}, {"twilight", false}, {"error", 0.002}},
+      {{"scene", "b"}, {"moving", true}, {"twilight", false}, {"error", 0.01}}};
+  // fog_volumes holds camera and sun still by day: A + X fits (1.5% + 0.2%) and is cheaper than A + Y.
   Planned still = plan_for(scene_path("fog_volumes"), 0.02, table, 320, 180);
-  REQUIRE(still.plan.facts.camera_static());
+  REQUIRE_FALSE(still.plan.facts.moving());
+  CHECK_FALSE(still.plan.facts.twilight());
   CHECK(chosen(still.plan, "fog") == "X");
   CHECK(still.plan.predicted_error == doctest::Approx(0.017));
   // The flythrough moves: X is 1% there, and A + Y it stays.
+  CHECK(chosen(plan_for(scene_path("fog_valley_flythrough"), 0.02, table, 320, 180).plan, "fog") == "Y");
+  // No table scene of the kind (a still twilight scene): the largest over all, 1%.
+  table["modules"]["fog"]["options"][0]["errors"][1]["moving"] = false;
+  table["modules"]["fog"]["options"][0]["errors"][1]["twilight"] = true;
   CHECK(chosen(plan_for(scene_path("fog_valley_flythrough"), 0.02, table, 320, 180).plan, "fog") == "Y");
 }
 
@@ -200,6 +208,8 @@ TEST_CASE("auto plan table: malformed tables are refused naming the file and fie
   CHECK(refusal([](nlohmann::json& t) { t["modules"]["fog"]["options"] = nlohmann::json::array(); })
             .find("modules.fog.options") != std::string::npos);
   CHECK(refusal([](nlohmann::json& t) { t["modules"]["fog"]["speed"] = 1; }).find("unknown key 'speed'") != std::string::npos);
+  CHECK(refusal([](nlohmann::json& t) { t["modules"]["fog"]["options"][1]["errors"] = {{{"scene", "s"}}}; })
+            .find("modules.fog.options[1].errors[0]") != std::string::npos);
   CHECK(refusal([](nlohmann::json& t) { t["measured"]["resolution"] = "big"; }).find("measured.resolution") !=
         std::string::npos);
 }

@@ -10,8 +10,9 @@ module's keys changed, so the whole frame's error against the reference render i
 
 Per option the table keeps
   error          the largest mean relative luminance error of the last frame over the scenes,
-  static_error   the same over the scenes where the camera and the sun hold still (temporal
-                 accumulation converges there: the planner uses it for such scenes),
+  errors         the error on each scene with the scene's kind (camera or sun moving; sun within 6
+                 degrees of the horizon): the planner takes the largest over scenes of the planned
+                 scene's kind,
   cost_ms        the largest per-frame cost of the module's passes (amortised over the measured
                  frames) over the scenes where the camera or the sun moves,
   static_cost_ms the same over the scenes where both hold still (LUTs are then built once).
@@ -29,16 +30,25 @@ THREADS = 2
 # Each option: a name and the profile keys it sets (dotted paths into the profile).
 OPTIONS = {
     "engine": [
-        ("msaa4", {"antialiasing": "msaa4", "shadow_map_size": 2048}),
-        ("msaa2", {"antialiasing": "msaa2", "shadow_map_size": 2048}),
-        ("no AA", {"antialiasing": "none", "shadow_map_size": 2048}),
-        ("no AA, 1024 shadow map", {"antialiasing": "none", "shadow_map_size": 1024}),
+        ("msaa4", {"antialiasing": "msaa4", "shadow_map_size": 2048, "render_scale": 1}),
+        ("msaa2", {"antialiasing": "msaa2", "shadow_map_size": 2048, "render_scale": 1}),
+        ("no AA", {"antialiasing": "none", "shadow_map_size": 2048, "render_scale": 1}),
+        ("no AA, 1024 shadow map", {"antialiasing": "none", "shadow_map_size": 1024, "render_scale": 1}),
+        ("scale 0.85, no AA", {"antialiasing": "none", "shadow_map_size": 2048, "render_scale": 0.85}),
+        ("scale 0.75, no AA", {"antialiasing": "none", "shadow_map_size": 2048, "render_scale": 0.75}),
+        ("scale 0.75, no AA, 1024 shadow map", {"antialiasing": "none", "shadow_map_size": 1024, "render_scale": 0.75}),
+        ("scale 0.6, no AA", {"antialiasing": "none", "shadow_map_size": 2048, "render_scale": 0.6}),
     ],
     "atmosphere": [
         ("6 wavelengths", {"atmosphere.spectral_samples": 6, "atmosphere.schedule.full": False}),
         ("6 wavelengths, sliced", {"atmosphere.spectral_samples": 6, "atmosphere.schedule.full": False,
                                    "atmosphere.schedule.skyview.slices": 2,
                                    "atmosphere.schedule.aerial_perspective.slices": 3}),
+        ("6 wavelengths, sliced, periods x2", {"atmosphere.spectral_samples": 6, "atmosphere.schedule.full": False,
+                                               "atmosphere.schedule.skyview.period": 8,
+                                               "atmosphere.schedule.skyview.slices": 2,
+                                               "atmosphere.schedule.aerial_perspective.period": 12,
+                                               "atmosphere.schedule.aerial_perspective.slices": 3}),
         ("RGB, sliced", {"atmosphere.spectral_samples": 3, "atmosphere.schedule.full": False,
                          "atmosphere.schedule.skyview.slices": 2,
                          "atmosphere.schedule.aerial_perspective.slices": 3}),
@@ -57,14 +67,15 @@ OPTIONS = {
 # Modules whose work grows with the pixel count (the planner scales their cost to the output).
 SCALES_WITH_PIXELS = {"engine": True, "atmosphere": False, "fog": True}
 
-# Scenes, the modules each uses, and whether its camera or sun moves over the measured frames.
+# Scenes, the modules each uses, and their kind as the planner sees it (SceneFacts): whether the camera
+# or the sun moves over the frames, and whether the sun comes within 6 degrees of the horizon.
 SCENES = [
-    ("scenes/fog_valley_flythrough.json", ["engine", "atmosphere", "fog"], True),
-    ("scenes/sky_sunset_timelapse.json", ["engine", "atmosphere"], True),
-    ("scenes/default_flythrough.json", ["engine", "atmosphere"], True),
-    ("scenes/fog_volumes.json", ["engine", "fog"], False),
-    ("scenes/fog_valley_sunrise.json", ["engine", "atmosphere", "fog"], False),
-    ("scenes/sky_earth_noon.json", ["engine", "atmosphere"], False),
+    ("scenes/fog_valley_flythrough.json", ["engine", "atmosphere", "fog"], True, False),
+    ("scenes/sky_sunset_timelapse.json", ["engine", "atmosphere"], True, True),
+    ("scenes/default_flythrough.json", ["engine", "atmosphere"], True, False),
+    ("scenes/fog_volumes.json", ["engine", "fog"], False, False),
+    ("scenes/fog_valley_sunrise.json", ["engine", "atmosphere", "fog"], False, False),
+    ("scenes/sky_earth_noon.json", ["engine", "atmosphere"], False, False),
 ]
 
 
@@ -95,9 +106,9 @@ def main():
     ref_path = os.path.join(args.out, "reference.json")
     json.dump(reference_profile(desktop), open(ref_path, "w"), indent=2)
 
-    measured = {m: {name: {"error": [], "static_error": [], "cost": [], "static": []} for name, _ in opts}
+    measured = {m: {name: {"errors": [], "cost": [], "static": []} for name, _ in opts}
                 for m, opts in OPTIONS.items()}
-    for scene, modules, moving in SCENES:
+    for scene, modules, moving, twilight in SCENES:
         points = []
         for m in modules:
             for name, settings in OPTIONS[m]:
@@ -116,7 +127,8 @@ def main():
         for row in sweep["points"]:
             m, name = row["label"].split(": ", 1)
             entry = measured[m][name]
-            entry["error" if moving else "static_error"].append(row["error"]["rel_luminance_mean"])
+            entry["errors"].append({"scene": scene, "moving": moving, "twilight": twilight,
+                                    "error": round(row["error"]["rel_luminance_mean"], 5)})
             entry["cost" if moving else "static"].append(module_cost(row, m))
             # Only this module differs from the reference: the frame's error is the module's
             # (tools/report charts it per module).
@@ -132,10 +144,10 @@ def main():
             "command": "tools/planner/auto_table.py",
             "resolution": list(RESOLUTION), "threads": THREADS, "warmup": WARMUP, "frames": FRAMES,
             "machine": f"{platform.processor() or platform.machine()}, {os.cpu_count()} cores",
-            "scenes": [s for s, _, _ in SCENES],
+            "scenes": [s for s, _, _, _ in SCENES],
             "reference": DESCRIPTION,
             "error": "largest mean relative luminance error of the last frame over the scenes using the module",
-            "static_error": "the same over the still scenes",
+            "errors": "the error per scene, with its kind (moving, twilight)",
             "cost_ms": "largest amortised per-frame cost of the module's passes over the moving scenes",
             "static_cost_ms": "the same over the still scenes",
         },
@@ -146,11 +158,10 @@ def main():
         for name, settings in opts:
             e = measured[m][name]
             row = {"name": name, "settings": settings, "cost_ms": round(max(e["cost"] or e["static"]), 3),
-                   "error": round(max(e["error"] + e["static_error"]), 5)}
+                   "error": max(x["error"] for x in e["errors"])}
             if e["static"] and m == "atmosphere":
                 row["static_cost_ms"] = round(max(e["static"]), 3)
-            if e["static_error"]:
-                row["static_error"] = round(max(e["static_error"]), 5)
+            row["errors"] = e["errors"]
             rows.append(row)
         table["modules"][m] = {"scales_with_pixels": SCALES_WITH_PIXELS[m], "options": rows}
     with open(args.write, "w") as f:

@@ -84,9 +84,10 @@ void add_composite_pass(FrameGraph& graph, const std::vector<Plugin*>& composito
 // "upscale" (an internal size below the output's): the internal colour's
 // edge fragments into their pixels, then colour, depth and, when
 // `distances`, distance upscaled into `output` (the output-size buffers),
-// which targets.color names afterwards.
+// which targets.color names afterwards; colour through the reversible
+// tonemap at `exposure` (upscale.h).
 void add_upscale_pass(FrameGraph& graph, const Upscaler& upscaler, const EngineResources& engine,
-                      EngineTargets& targets, FrameGraphId<FrameBuffers> output, bool distances);
+                      EngineTargets& targets, FrameGraphId<FrameBuffers> output, bool distances, float exposure);
 // "resolve": edge fragments into their pixels, exposure, tonemap, 8-bit sRGB.
 // `display` (and, for the profile's fixed-point resolve, `fixed_display`)
 // is rebuilt when the exposure changes.

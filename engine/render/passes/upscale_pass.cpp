@@ -8,7 +8,7 @@
 namespace cr {
 
 void add_upscale_pass(FrameGraph& graph, const Upscaler& upscaler, const EngineResources& engine,
-                      EngineTargets& targets, FrameGraphId<FrameBuffers> output, bool distances) {
+                      EngineTargets& targets, FrameGraphId<FrameBuffers> output, bool distances, float exposure) {
   struct Data {
     FrameGraphId<FrameBuffers> source, distance, output;
   };
@@ -18,12 +18,12 @@ void add_upscale_pass(FrameGraph& graph, const Upscaler& upscaler, const EngineR
     if (distances) d.distance = b.read(engine.distance);
     d.source = targets.color = b.write(targets.color);  // edge pixels' fragments resolve into their pixels
     d.output = targets.color = b.write(output);
-  }, [&upscaler](const FrameGraph::Resources& r, const Data& d) {
+  }, [&upscaler, exposure](const FrameGraph::Resources& r, const Data& d) {
     FrameBuffers& source = r.get_mutable(d.source);
     FrameBuffers& out = r.get_mutable(d.output);
     JobSystem& jobs = r.jobs();
     resolve_fragments(source.fragments, source.color, jobs);
-    upscaler.color(source.color, out.color, jobs);
+    upscaler.color(source.color, out.color, jobs, exposure);
     upscaler.nearest(source.depth, out.depth, jobs);
     if (d.distance.valid()) upscaler.nearest(r.get(d.distance).distance, out.distance, jobs);
   });
