@@ -5,7 +5,7 @@
 #include "engine/cli/paths.h"
 #include "engine/cli/scene_overrides.h"
 #include "engine/core/error.h"
-#include "engine/output/atomic_file.h"
+#include "engine/core/json_input.h"
 #include "engine/output/exr_io.h"
 #include "engine/output/png_io.h"
 #include "engine/render/frame_memory.h"
@@ -72,7 +72,10 @@ RunSetup load_run(const std::string& scene_path, const std::string& profile, con
   const bool planned = is_auto_profile(profile);
   const std::string profile_path =
       resolve_profile_path(!planned ? profile : profile.size() > 5 ? profile.substr(5) : std::string("desktop"));
-  s.profile = load_profile(profile_path, sections);
+  // A planned profile starts from the base's document: read it once.
+  nlohmann::json base_doc;
+  if (planned) base_doc = load_json_file(profile_path);
+  s.profile = planned ? parse_profile(base_doc, profile_path, sections) : load_profile(profile_path, sections);
   if (width > 0) {
     s.profile.width = width;
     s.profile.height = height;
@@ -95,7 +98,6 @@ RunSetup load_run(const std::string& scene_path, const std::string& profile, con
   s.threads = threads > 0 ? threads : JobSystem::default_thread_count();
   s.frames = request.frames > 0 ? request.frames : s.description.frames;
   if (planned) {
-    nlohmann::json base_doc = nlohmann::json::parse(read_file_bytes(profile_path), nullptr, false);
     if (width > 0) base_doc["resolution"] = {width, height};
     s.plan = plan_auto_profile(*s.scene, s.description, base_doc, s.profile, load_plan_table(request.plan_table.empty() ? auto_table_path() : request.plan_table),
                                plugins, request.error_budget, s.frames, s.profile.width, s.profile.height);

@@ -3,14 +3,15 @@
 #include <algorithm>
 #include <cmath>
 
+#include "engine/core/luminance.h"
+
 namespace cr {
 
 namespace {
 
 constexpr size_t kBandRows = 16;  // output rows per job
 
-// Rec. 709 luminance weights of linear sRGB.
-float luminance(const float* c) { return 0.2126f * c[0] + 0.7152f * c[1] + 0.0722f * c[2]; }
+float luminance(const float* c) { return cr::luminance(glm::vec3(c[0], c[1], c[2])); }
 
 // The inverse's denominator never reaches 0: per-channel clamps may combine
 // channels of different pixels into a luminance just above 1.
