@@ -103,15 +103,17 @@ void TiledRasterizer::build(JobSystem& jobs, GeometrySet set, std::span<const Ra
 }
 
 void TiledRasterizer::raster(JobSystem& jobs, GeometrySet set, const TileGrid& grid, const TileTarget& target,
-                             std::span<MixedSamples> mixed) {
+                             std::span<MixedSamples> mixed, std::span<const uint32_t> tiles) {
   Geometry& g = geometry_[set];
   RasterStats& s = g.stats;
   s.tiles_x = grid.tiles_x;
   s.tiles_y = grid.tiles_y;
   s.tiles.assign(size_t(grid.tile_count()), TileStats{});
   const std::span<const GeometryChunk> chunks(g.chunks.data(), g.chunk_count);
-  jobs.parallel_for("raster", size_t(grid.tile_count()), 1, [&](size_t begin, size_t end) {
-    for (size_t t = begin; t < end; ++t) {
+  const size_t count = tiles.empty() ? size_t(grid.tile_count()) : tiles.size();
+  jobs.parallel_for("raster", count, 1, [&](size_t begin, size_t end) {
+    for (size_t k = begin; k < end; ++k) {
+      const size_t t = tiles.empty() ? k : size_t(tiles[k]);
       TileTarget tile_target = target;
       if (!mixed.empty()) tile_target.mixed = &mixed[t];
       raster_tile(int(t), grid, chunks, tile_target, s.tiles[t]);
@@ -175,18 +177,31 @@ const RasterStats& TiledRasterizer::render_blended(JobSystem& jobs, std::span<co
 
 const RasterStats& TiledRasterizer::render_depth(JobSystem& jobs, int size, int tile_size,
                                                  std::span<const RasterDraw> draws, std::vector<float>& depth,
-                                                 const CoverageFn& coverage) {
+                                                 const CoverageFn& coverage, std::span<const PixelRect> regions) {
   check_image_size(size, size);
   check_coverage(draws, coverage);
   const TileGrid grid = TileGrid::make(size, size, tile_size);
   depth.resize(size_t(size) * size);
+  region_tiles_.clear();
+  for (int t = 0; !regions.empty() && t < grid.tile_count(); ++t) {
+    const PixelRect rect = grid.tile_rect(t);
+    for (const PixelRect& r : regions)
+      if (!intersect(rect, r).empty()) {
+        region_tiles_.push_back(uint32_t(t));
+        break;
+      }
+  }
+  if (!regions.empty() && region_tiles_.empty()) {  // nothing to render
+    geometry_[kDepth].stats = {};
+    return geometry_[kDepth].stats;
+  }
   build(jobs, kDepth, draws, grid, CullMode::None);
   TileTarget target;
   target.mode = TileMode::Depth;
   target.stride = size;
   target.depth = depth.data();
   target.coverage = &coverage;
-  raster(jobs, kDepth, grid, target);
+  raster(jobs, kDepth, grid, target, {}, region_tiles_);
   return geometry_[kDepth].stats;
 }
 

@@ -93,8 +93,11 @@ class TiledRasterizer {
   // Nothing is culled: terrain and other open meshes have no back faces to
   // cast from, and the shadow lookup's normal-offset and slope biases handle
   // the acne that rendering front faces invites.
+  // With `regions`, only the tiles that overlap one render (each whole, so
+  // a region's texels equal a full render's); the others keep their values.
   const RasterStats& render_depth(JobSystem& jobs, int size, int tile_size, std::span<const RasterDraw> draws,
-                                  std::vector<float>& depth, const CoverageFn& coverage = {});
+                                  std::vector<float>& depth, const CoverageFn& coverage = {},
+                                  std::span<const PixelRect> regions = {});
 
   // Perspective-correct barycentrics of the original triangle at screen
   // position (px, py) (pixel centre = x + 0.5), with d/dx and d/dy per pixel.
@@ -117,10 +120,12 @@ class TiledRasterizer {
 
   void build(JobSystem& jobs, GeometrySet set, std::span<const RasterDraw> draws, const TileGrid& grid,
              CullMode cull, int32_t sample_margin = 0);
+  // Every tile, or only those listed in `tiles`.
   void raster(JobSystem& jobs, GeometrySet set, const TileGrid& grid, const TileTarget& target,
-              std::span<MixedSamples> mixed = {});
+              std::span<MixedSamples> mixed = {}, std::span<const uint32_t> tiles = {});
 
   Geometry geometry_[kSetCount];
+  std::vector<uint32_t> region_tiles_;  // render_depth's tiles within its regions
   TileGrid visibility_grid_;
   VisibilityBuffer visibility_;
 };

@@ -149,7 +149,8 @@ const FrameRecord& Renderer::render_frame(int frame) {
                     {"pixels_shaded", pixels_shaded_},
                     {"msaa_mixed_pixels", mixed_pixels}, {"edge_fragments", scene_buffers.fragments.size()},
                     {"draws_in_view", vis.opaque.size() + vis.blended.size()},
-                    {"shadow_casters", shadow_state_->casters.size()}, {"shadow_map_reused", shadow_state_->reused}};
+                    {"shadow_casters", shadow_state_->casters.size()}, {"shadow_map_reused", shadow_state_->reused},
+                    {"shadow_map_scrolled", shadow_state_->scrolled}};
   for (auto& p : plugins_) p->report_frame(record_.plugins[p->name()]);
   return record_;
 }

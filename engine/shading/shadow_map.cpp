@@ -91,11 +91,15 @@ enum class TapAgreement { AllLit, AllShadowed, Mixed };
 
 }  // namespace
 
-ShadowMap fit_shadow_projection(const Camera& view, const glm::vec3& direction_to_sun, float shadow_distance, int size,
-                         int pcf_radius, const glm::vec3& scene_min, const glm::vec3& scene_max) {
-  ShadowMap m;
-  if (size <= 0) return m;
+ShadowFit fit_shadow_view(const Camera& view, const glm::vec3& direction_to_sun, float shadow_distance, int size,
+                          const glm::vec3& scene_min, const glm::vec3& scene_max) {
+  ShadowFit fit;
+  fit.size = size;
+  if (size <= 0) return fit;
   const LightBasis basis = light_basis(direction_to_sun);
+  fit.axis_x = basis.x;
+  fit.axis_y = basis.y;
+  fit.axis_z = basis.z;
 
   // Bounding sphere of the frustum slice [near, far]: its centre on the view
   // axis at distance c equalises the distances to the near and far corners,
@@ -121,45 +125,66 @@ ShadowMap fit_shadow_projection(const Camera& view, const glm::vec3& direction_t
 
   // Two spare texels: snapping moves the centre by up to half a texel per
   // axis, and the sphere must stay inside the map.
-  const double texel = 2.0 * radius / std::max(size - 2, 1);
-  const double half_extent = 0.5 * size * texel;
+  fit.texel = 2.0 * radius / std::max(size - 2, 1);
   // Snap the centre to the world-aligned texel grid of the light's view, so
   // a translating camera moves the map by whole texels (no shimmering).
-  const double sx = std::floor(glm::dot(centre, basis.x) / texel + 0.5) * texel;
-  const double sy = std::floor(glm::dot(centre, basis.y) / texel + 0.5) * texel;
-  const double sz = glm::dot(centre, basis.z);
-  m.origin = basis.x * sx + basis.y * sy + basis.z * sz;
+  fit.grid_x = int64_t(std::floor(glm::dot(centre, basis.x) / fit.texel + 0.5));
+  fit.grid_y = int64_t(std::floor(glm::dot(centre, basis.y) / fit.texel + 0.5));
+  fit.centre_depth = glm::dot(centre, basis.z);
 
   // Depth: receivers lie within the sphere; casters may be anywhere between
   // it and the sun, so the near (sunward) end reaches the scene's bounds.
+  const glm::dvec3 origin = basis.x * (double(fit.grid_x) * fit.texel) + basis.y * (double(fit.grid_y) * fit.texel) +
+                            basis.z * fit.centre_depth;
   double toward_sun = radius;
   for (int i = 0; i < 8; ++i) {
     const glm::dvec3 corner((i & 1) ? scene_max.x : scene_min.x, (i & 2) ? scene_max.y : scene_min.y,
                             (i & 4) ? scene_max.z : scene_min.z);
-    const double d = glm::dot(corner - m.origin, basis.z);
+    const double d = glm::dot(corner - origin, basis.z);
     if (std::isfinite(d)) toward_sun = std::max(toward_sun, d);
   }
-  const double d_max = toward_sun + texel;
-  const double d_min = -radius - texel;
-  const double range = d_max - d_min;
+  fit.need_max = toward_sun + fit.texel;
+  fit.need_min = -radius - fit.texel;
+  return fit;
+}
+
+ShadowMap shadow_projection(const ShadowFit& fit, int pcf_radius, double origin_depth, double depth_min,
+                            double depth_max) {
+  ShadowMap m;
+  if (fit.size <= 0) return m;
+  const double half_extent = 0.5 * fit.size * fit.texel;
+  m.origin = fit.axis_x * (double(fit.grid_x) * fit.texel) + fit.axis_y * (double(fit.grid_y) * fit.texel) +
+             fit.axis_z * origin_depth;
+  const double range = depth_max - depth_min;
 
   // Rows of the orthographic projection of (world - origin).
   glm::dmat4 p(0.0);
   for (int j = 0; j < 3; ++j) {
-    p[j][0] = basis.x[j] / half_extent;
-    p[j][1] = basis.y[j] / half_extent;
-    p[j][2] = basis.z[j] / range;
+    p[j][0] = fit.axis_x[j] / half_extent;
+    p[j][1] = fit.axis_y[j] / half_extent;
+    p[j][2] = fit.axis_z[j] / range;
   }
-  p[3][2] = -d_min / range;
+  p[3][2] = -depth_min / range;
   p[3][3] = 1.0;
 
-  m.size = size;
+  m.size = fit.size;
   m.light_view_proj = glm::mat4(p);
-  m.texel_world_size = float(texel);
+  m.texel_world_size = float(fit.texel);
   m.depth_range = float(range);
-  m.direction_to_sun = glm::vec3(basis.z);
+  m.direction_to_sun = glm::vec3(fit.axis_z);
   m.pcf_radius = std::max(pcf_radius, 0);
+  m.grid_x = fit.grid_x;
+  m.grid_y = fit.grid_y;
+  m.origin_depth = origin_depth;
+  m.depth_min = depth_min;
+  m.depth_max = depth_max;
   return m;
+}
+
+ShadowMap fit_shadow_projection(const Camera& view, const glm::vec3& direction_to_sun, float shadow_distance, int size,
+                                int pcf_radius, const glm::vec3& scene_min, const glm::vec3& scene_max) {
+  const ShadowFit fit = fit_shadow_view(view, direction_to_sun, shadow_distance, size, scene_min, scene_max);
+  return shadow_projection(fit, pcf_radius, fit.centre_depth, fit.need_min, fit.need_max);
 }
 
 ShadowMap fit_shadow_map(const Camera& view, const glm::vec3& direction_to_sun, float shadow_distance, int size,

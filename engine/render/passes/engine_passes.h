@@ -39,7 +39,8 @@ struct Visibility {
 struct ShadowPassState {
   TiledRasterizer raster;
   std::vector<RasterDraw> casters;
-  bool reused = false;
+  bool reused = false;    // this frame's map is last frame's
+  bool scrolled = false;  // last frame's, moved: only the texels that came into view rendered
 };
 
 // The engine's resources that plugins do not see.
