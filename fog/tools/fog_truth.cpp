@@ -98,7 +98,7 @@ std::optional<ModuleTruthResult> measure_fog_truth(const ModuleTruthRequest& r, 
 
 ModuleTruth fog_truth(const PluginRegistry& plugins) {
   // 128 samples: the temporal error moves by under 1% of itself against 512 (fog_valley_flythrough, 320x180).
-  // 320 wide: a point costs about 0.2 s, 0.7 s where it renders its reference (two cores).
+  // 320 wide: a point costs about 0.2 s, 0.8-1 s where it renders its reference (two cores).
   // warmup 14: fog-accuracy's default, two cycles of the 7-frame jitter.
   return {kModule,
           {{"samples", 128, 1, 65536}, {"warmup", 14, 0, 1000}, {"max_width", 320, 16, 16384}},
