@@ -8,17 +8,15 @@
 #include <string>
 #include <vector>
 
-#include "atmosphere/sky_composite.h"
 #include "atmosphere/spectral_sampling.h"
 #include "atmosphere/tools/accuracy_score.h"
 #include "atmosphere/tools/reference_merge.h"
 #include "atmosphere/tools/reference_renderer.h"
-#include "atmosphere/tools/sky_case.h"
-#include "atmosphere/tools/sky_panorama.h"
+#include "atmosphere/tools/reference_exr.h"
+#include "atmosphere/tools/sky_accuracy_case.h"
 #include "atmosphere/tools/sky_commands.h"
 #include "engine/cli/cli_common.h"
 #include "engine/core/error.h"
-#include "engine/core/luminance.h"
 #include "engine/output/exr_io.h"
 
 namespace cr {
@@ -31,67 +29,6 @@ void write_radiance_exr(const std::string& path, const std::vector<glm::vec3>& p
   for (size_t i = 0; i < px.size(); ++i)
     for (int c = 0; c < 3; ++c) img.color.rgb[i * 3 + size_t(c)] = px[i][c];
   write_exr(path, img);
-}
-
-// The reference's spectrum is recorded in the file as a channel "spectral":
-// 1 at every pixel for the full-spectral reference, 0 for the RGB one.
-const char* const kSpectrumChannel = "spectral";
-
-const char* spectrum_name(bool spectral) { return spectral ? "spectral" : "rgb"; }
-
-void write_reference_exr(const std::string& path, const std::vector<glm::vec3>& px, const std::vector<float>& y,
-                         const std::vector<float>& noise, const std::vector<glm::vec2>& ratio_noise, bool spectral,
-                         int w, int h) {
-  ExrImage img;
-  img.color = ImageRGBf(w, h);
-  for (size_t i = 0; i < px.size(); ++i)
-    for (int c = 0; c < 3; ++c) img.color.rgb[i * 3 + size_t(c)] = px[i][c];
-  img.aovs.push_back({"Y", ExrPixelType::Float, y});
-  img.aovs.push_back({"noise", ExrPixelType::Float, noise});
-  img.aovs.push_back({kSpectrumChannel, ExrPixelType::Float, std::vector<float>(px.size(), spectral ? 1.0f : 0.0f)});
-  std::vector<float> rg(px.size()), bg(px.size());
-  for (size_t i = 0; i < px.size(); ++i) {
-    rg[i] = ratio_noise[i].x;
-    bg[i] = ratio_noise[i].y;
-  }
-  img.aovs.push_back({"rg_noise", ExrPixelType::Float, rg});
-  img.aovs.push_back({"bg_noise", ExrPixelType::Float, bg});
-  write_exr(path, img);
-}
-
-// A reference written by --out: its luminance (full float), noise and colour;
-// an InputError unless it was rendered with the spectrum asked for.
-void read_reference_exr(const std::string& path, int w, int h, bool spectral, ReferenceLuminance& r) {
-  std::vector<float>& y = r.luminance;
-  std::vector<float>& noise = r.noise;
-  const ExrImage img = read_exr(path);
-  if (img.color.width != w || img.color.height != h)
-    throw InputError(path, "size " + std::to_string(img.color.width) + "x" + std::to_string(img.color.height) +
-                               " does not match --width/--height " + std::to_string(w) + "x" + std::to_string(h));
-  y.clear();
-  noise.clear();
-  const std::vector<float>* spectrum = nullptr;
-  const std::vector<float>*rg = nullptr, *bg = nullptr;
-  for (const ExrChannel& c : img.aovs) {
-    if (c.name == "Y") y = c.values;
-    if (c.name == "noise") noise = c.values;
-    if (c.name == kSpectrumChannel) spectrum = &c.values;
-    if (c.name == "rg_noise") rg = &c.values;
-    if (c.name == "bg_noise") bg = &c.values;
-  }
-  r.ratio_noise.clear();
-  if (rg && bg && rg->size() == y.size() && bg->size() == y.size())  // optional: older references lack them
-    for (size_t i = 0; i < y.size(); ++i) r.ratio_noise.insert(r.ratio_noise.end(), {(*rg)[i], (*bg)[i]});
-  if (y.empty() || noise.empty()) throw InputError(path, "channels Y and noise: missing (not written by sky-accuracy --out)");
-  if (spectrum == nullptr || spectrum->empty())
-    throw InputError(path, "no \"spectral\" channel: written by an older sky-accuracy (RGB reference under a 110000 lx "
-                           "white sun); render it again");
-  const bool stored_spectral = spectrum->front() > 0.5f;
-  if (stored_spectral != spectral)
-    throw InputError(path, std::string("a ") + spectrum_name(stored_spectral) + " reference, but --spectrum is " +
-                               spectrum_name(spectral) + ": pass --spectrum " + spectrum_name(stored_spectral) +
-                               " or render it again");
-  r.color = img.color.rgb;
 }
 
 // The references of one case from every directory of --reference that has it, merged.
@@ -229,10 +166,6 @@ int sky_accuracy_command(const std::vector<std::string>& args) {
   std::erase(stored_dirs, std::string());
   if (!out.empty()) std::filesystem::create_directories(out);
   JobSystem jobs(threads_option(p));
-  AtmosphereSettings full = setup.settings;
-  full.full_schedule = true;
-  // The sun of the solar spectrum, for the LUTs and the reference alike.
-  const glm::vec3 e = solar_sun_illuminance();
 
   if (stored.empty())
     std::printf("sky-accuracy: preset %s, %dx%d panorama, %s reference, %d paths/pixel, %u threads\n",
@@ -244,67 +177,47 @@ int sky_accuracy_command(const std::vector<std::string>& args) {
               "p95", "rg_err", "bg_err", "noise", "bias", "dark", "dark_err", "all_mean", "lut_ms", "ref_ms", "verdict");
   bool all_pass = true;
   for (double alt : altitudes) {
-    // From space (the space fallback) the view is the planet and its limb: elevation 0 to -90 deg.
-    const bool from_space = alt > full.space_altitude;
-    const std::vector<glm::vec3> dirs = accuracy_panorama(w, h, from_space);
     for (double zen : zeniths) {
       char name[128];
       std::snprintf(name, sizeof name, "sun%g_alt%g", zen, alt);
       const glm::vec3 sun = sun_at_zenith_angle(zen);
-      SkyCase c = make_sky_case(setup, full);
-      const double t0 = now_ms();
-      update_sky_case(c, 0, horizon_camera(alt, 16, 9), sun, e, jobs);
-      std::vector<glm::vec3> lut(dirs.size());
-      jobs.parallel_for("atmosphere.accuracy", dirs.size(), 64, [&](size_t b, size_t en) {
-        for (size_t i = b; i < en; ++i) lut[i] = sky_radiance(c.frame, dirs[i], false);
-      });
-      const double lut_ms = now_ms() - t0;
+      const SkyLutPanorama c = render_lut_panorama(setup, setup.settings, alt, sun, w, h, jobs);
+      const std::vector<glm::vec3>& lut = c.radiance;
 
-      std::vector<float> ref_y(dirs.size()), ref_noise, ref_rgb, ref_ratio_noise;
+      ReferenceLuminance ref;
       double ref_ms = 0.0;
       if (!stored.empty()) {
-        ReferenceLuminance merged = read_references(stored_dirs, std::string(name) + "_reference.exr", w, h, spectral);
-        ref_y = std::move(merged.luminance);
-        ref_noise = std::move(merged.noise);
-        ref_rgb = std::move(merged.color);
-        ref_ratio_noise = std::move(merged.ratio_noise);
+        ref = read_references(stored_dirs, std::string(name) + "_reference.exr", w, h, spectral);
       } else {
-        ReferenceView view;
-        view.origin = glm::dvec3(0.0, c.frame.model.bottom_radius + setup.scene.ground_altitude + alt, 0.0);
-        view.directions = dirs;
-        view.sun_direction = sun;
-        view.sun_illuminance = e;
         std::mutex print_mutex;
         int last_percent = -1;
         const double r0 = now_ms();
-        const ReferenceImage ref = render_reference(c.frame.model, view, rs, jobs, [&](size_t done, size_t total) {
-          const int percent = int(100 * done / total);
-          std::lock_guard<std::mutex> lock(print_mutex);
-          if (percent / 10 != last_percent / 10) {
-            last_percent = percent;
-            std::fprintf(stderr, "\r  reference sun %g deg, %g m: %3d%%", zen, alt, percent);
-            std::fflush(stderr);
-          }
-        });
+        const ReferenceImage image =
+            render_reference(c.sky.frame.model, reference_panorama_view(setup, c, alt, sun), rs, jobs,
+                             [&](size_t done, size_t total) {
+                               const int percent = int(100 * done / total);
+                               std::lock_guard<std::mutex> lock(print_mutex);
+                               if (percent / 10 != last_percent / 10) {
+                                 last_percent = percent;
+                                 std::fprintf(stderr, "\r  reference sun %g deg, %g m: %3d%%", zen, alt, percent);
+                                 std::fflush(stderr);
+                               }
+                             });
         ref_ms = now_ms() - r0;
         std::fprintf(stderr, "\r%60s\r", "");
-        for (size_t i = 0; i < dirs.size(); ++i) ref_y[i] = luminance(ref.radiance[i]);
-        ref_noise = ref.noise;
-        ref_rgb.resize(dirs.size() * 3);
-        for (size_t i = 0; i < dirs.size(); ++i)
-          for (int k = 0; k < 3; ++k) ref_rgb[3 * i + size_t(k)] = ref.radiance[i][k];
-        for (const glm::vec2& r : ref.ratio_noise) ref_ratio_noise.insert(ref_ratio_noise.end(), {r.x, r.y});
+        ref = reference_luminance(image);
         if (!out.empty())
-          write_reference_exr(out + "/" + name + "_reference.exr", ref.radiance, ref_y, ref_noise, ref.ratio_noise,
-                              spectral, w, h);
+          write_reference_exr(out + "/" + name + "_reference.exr", image.radiance, ref.luminance, ref.noise,
+                              image.ratio_noise, spectral, w, h);
       }
+      const std::vector<float>& ref_y = ref.luminance;
+      const std::vector<float>& ref_noise = ref.noise;
 
-      const std::vector<bool> sky = scored_sky(c.frame, dirs, from_space);
-      std::vector<float> lut_y(dirs.size());
-      for (size_t i = 0; i < dirs.size(); ++i) lut_y[i] = luminance(lut[i]);
+      const std::vector<bool> sky = c.scored();
+      const std::vector<float> lut_y = luminances(lut);
       const AccuracyScore es = score_accuracy(lut_y, ref_y, ref_noise, sky);
       const AccuracyScore ea = score_accuracy(lut_y, ref_y, ref_noise, {});
-      const ColorRatioError ce = color_ratio_error(lut, ref_rgb, ref_ratio_noise, ref_y, sky, es.floor);
+      const ColorRatioError ce = color_ratio_error(lut, ref.color, ref.ratio_noise, ref_y, sky, es.floor);
       const Targets target = targets_at(zen);
       // A colour ratio meets its target when its mean error does, or when the error the reference's
       // colour noise does not explain (an RMS, so no smaller than such a mean) does.
@@ -337,7 +250,7 @@ int sky_accuracy_command(const std::vector<std::string>& args) {
       std::printf(
           "%7.1f %7.0f | %6.2f%% %6.2f%% | %6.2f%% %6.2f%% | %6.2f%% %6.2f%% | %5zu %7.2f%% | %7.2f%% | %8.1f %8.0f | %s\n",
           zen, alt, 100 * es.mean, 100 * es.p95, 100 * ce.rg, 100 * ce.bg, 100 * es.noise_mean, 100 * es.bias_rms,
-          es.dark, 100 * es.dark_error, 100 * ea.mean, lut_ms, ref_ms, verdict.c_str());
+          es.dark, 100 * es.dark_error, 100 * ea.mean, c.ms, ref_ms, verdict.c_str());
       std::fflush(stdout);
       if (!out.empty()) write_radiance_exr(out + "/" + name + "_lut.exr", lut, w, h);
     }

@@ -14,13 +14,14 @@
 namespace cr {
 
 class CommandRegistry;
+class ModuleTruthRegistry;
 
 int sky_accuracy_command(const std::vector<std::string>& args);
 int sky_bench_command(const std::vector<std::string>& args);
 int sky_environment_command(const std::vector<std::string>& args);
 int sky_luts_command(const std::vector<std::string>& args);
 int sky_stability_command(const std::vector<std::string>& args);
-// Adds the five commands.
-void register_sky_commands(CommandRegistry& commands);
+// Adds the five commands, and the atmosphere's ground truth for sweep --truth (sky_truth.h).
+void register_sky_commands(CommandRegistry& commands, ModuleTruthRegistry& truths);
 
 }  // namespace cr

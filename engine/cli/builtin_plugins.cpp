@@ -14,9 +14,9 @@ void register_builtin_plugins(PluginRegistry& plugins) {
   register_fog_plugin(plugins);
 }
 
-void register_builtin_tools(CommandRegistry& commands, const PluginRegistry& plugins) {
-  register_sky_commands(commands);
-  register_fog_commands(commands, plugins);
+void register_builtin_tools(CommandRegistry& commands, ModuleTruthRegistry& truths, const PluginRegistry& plugins) {
+  register_sky_commands(commands, truths);
+  register_fog_commands(commands, truths, plugins);
 }
 
 }  // namespace cr

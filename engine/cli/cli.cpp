@@ -13,6 +13,7 @@
 #include "engine/cli/golden_command.h"
 #include "engine/core/error.h"
 #include "engine/cli/command_registry.h"
+#include "engine/cli/module_truth.h"
 #include "engine/render/plugin_registry.h"
 
 namespace cr {
@@ -20,14 +21,15 @@ namespace cr {
 namespace {
 
 // The engine's commands, then those the tools registered.
-std::vector<CliCommand> all_commands(const PluginRegistry& registry, const CommandRegistry& tools) {
+std::vector<CliCommand> all_commands(const PluginRegistry& registry, const CommandRegistry& tools,
+                                     const ModuleTruthRegistry& truths) {
   std::vector<CliCommand> cmds = {
       {"render", "render frames of a scene to PNG/EXR with a timing report and trace",
        [&](const auto& a) { return render_command(a, registry); }},
       {"bench", "benchmark the default scene and glTF files at 1 and all threads",
        [&](const auto& a) { return bench_command(a, registry); }},
       {"sweep", "render a scene at every point of a settings sweep: cost per pass and error against a reference",
-       [&](const auto& a) { return sweep_command(a, registry); }},
+       [&](const auto& a) { return sweep_command(a, registry, truths); }},
       {"aa-error", "anti-aliasing modes: edge error against a supersampled render, cost per pass",
        [&](const auto& a) { return antialiasing_command(a, registry); }},
       {"compare", "compare two images (PNG/EXR): metrics, FLIP, pass/fail, diff image",
@@ -50,15 +52,23 @@ void print_help(const std::vector<CliCommand>& cmds) {
 }  // namespace
 
 int run_cli(int argc, char** argv, const std::function<void(PluginRegistry&, CommandRegistry&)>& register_builtins) {
+  return run_cli(argc, argv, [&](PluginRegistry& plugins, CommandRegistry& commands, ModuleTruthRegistry&) {
+    register_builtins(plugins, commands);
+  });
+}
+
+int run_cli(int argc, char** argv,
+            const std::function<void(PluginRegistry&, CommandRegistry&, ModuleTruthRegistry&)>& register_builtins) {
   PluginRegistry registry;
   CommandRegistry tools;
+  ModuleTruthRegistry truths;
   try {
-    register_builtins(registry, tools);
+    register_builtins(registry, tools, truths);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "cpurender: internal error registering plugins: %s\n", e.what());
     return 2;
   }
-  const std::vector<CliCommand> cmds = all_commands(registry, tools);
+  const std::vector<CliCommand> cmds = all_commands(registry, tools, truths);
   if (argc < 2 || std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h") {
     print_help(cmds);
     return argc < 2 ? 2 : 0;

@@ -20,6 +20,8 @@
 
 namespace cr {
 
+class ModuleTruthRegistry;
+
 struct RunSetup {
   SceneDescription description;
   Profile profile;
@@ -87,7 +89,9 @@ void write_frame_exr(const std::string& path, const FrameBuffers& buffers);
 
 int render_command(const std::vector<std::string>& args, const PluginRegistry& registry);
 int bench_command(const std::vector<std::string>& args, const PluginRegistry& registry);
-int sweep_command(const std::vector<std::string>& args, const PluginRegistry& registry);
+// Measures each point against the ground truths of `truths` too (--truth).
+int sweep_command(const std::vector<std::string>& args, const PluginRegistry& registry,
+                  const ModuleTruthRegistry& truths);
 int antialiasing_command(const std::vector<std::string>& args, const PluginRegistry& registry);
 
 }  // namespace cr

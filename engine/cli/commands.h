@@ -6,14 +6,19 @@
 namespace cr {
 
 class CommandRegistry;
+class ModuleTruthRegistry;
 class PluginRegistry;
 
 // The plugins linked into this binary (atmosphere, fog) and their tools'
-// commands (sky-*, fog-*, which render through `plugins`); defined by the
-// composition root (builtin_plugins.cpp), not by the engine.
+// commands (sky-*, fog-*, which render through `plugins`) and ground truths
+// (for sweep --truth); defined by the composition root (builtin_plugins.cpp),
+// not by the engine.
 void register_builtin_plugins(PluginRegistry& plugins);
-void register_builtin_tools(CommandRegistry& commands, const PluginRegistry& plugins);
-// Runs the CLI with the plugins and tool commands that `register_builtins` adds.
+void register_builtin_tools(CommandRegistry& commands, ModuleTruthRegistry& truths, const PluginRegistry& plugins);
+// Runs the CLI with the plugins, tool commands and module truths that `register_builtins` adds.
+int run_cli(int argc, char** argv,
+            const std::function<void(PluginRegistry&, CommandRegistry&, ModuleTruthRegistry&)>& register_builtins);
+// The same without module truths (a sweep then measures none).
 int run_cli(int argc, char** argv, const std::function<void(PluginRegistry&, CommandRegistry&)>& register_builtins);
 
 }  // namespace cr

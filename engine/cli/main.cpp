@@ -22,8 +22,9 @@ __attribute__((constructor(101))) void require_instruction_set() {
 #endif
 
 int main(int argc, char** argv) {
-  return cr::run_cli(argc, argv, [](cr::PluginRegistry& plugins, cr::CommandRegistry& commands) {
+  return cr::run_cli(argc, argv, [](cr::PluginRegistry& plugins, cr::CommandRegistry& commands,
+                                    cr::ModuleTruthRegistry& truths) {
     cr::register_builtin_plugins(plugins);
-    cr::register_builtin_tools(commands, plugins);
+    cr::register_builtin_tools(commands, truths, plugins);
   });
 }

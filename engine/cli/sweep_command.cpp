@@ -11,9 +11,11 @@
 #include <set>
 
 #include "engine/cli/arg_parser.h"
+#include "engine/cli/cache_key.h"
 #include "engine/cli/cli_common.h"
 #include "engine/cli/paths.h"
 #include "engine/cli/sweep_points.h"
+#include "engine/cli/sweep_truth.h"
 #include "engine/core/error.h"
 #include "engine/output/atomic_file.h"
 #include "engine/output/exr_io.h"
@@ -38,6 +40,10 @@ const char* const kDescription =
     "the scene file, the resolution and the frame count).\n"
     "--point LABEL=PROFILE adds a listed point rendering a whole profile (a name, a file, or auto[:BASE],\n"
     "planned for the scene); --points FILE reads axes and listed points from a sweep file.\n"
+    "--truth also measures, at the measured frame, each module the scene uses against its own ground truth\n"
+    "(those the plugins' tools register, e.g. a path-traced or ray-marched reference), recorded per point\n"
+    "under \"module_error\"; their references are cached in OUT/references. --truth-setting\n"
+    "MODULE.KEY=VALUE sets a module's reference size or sample count (docs/sweep.md).\n"
     "Writes OUT/sweep.json and OUT/sweep.csv after every point (atomically), and OUT/profiles/ the\n"
     "profile of each point. --resume keeps the points of an earlier run of the same sweep (same scene,\n"
     "base, reference, frames and resolution) and renders the rest: a killed sweep loses only the point\n"
@@ -50,6 +56,7 @@ struct PointResult {
   ImageRGBf last;          // the last frame's linear colour
   ImageRGBf last_display;  // and its resolved sRGB values (0..1), what FLIP compares
   std::optional<AutoPlan> plan;  // an auto point's
+  RunSetup setup;                // what it rendered; its scene posed at the last frame
 };
 
 ImageRGBf linear_color(const FrameBuffers& b) {
@@ -76,6 +83,7 @@ PointResult render_point(const std::string& scene, const std::string& profile_pa
   PointResult r;
   r.frames = frames;
   r.plan = setup.plan;
+  r.setup = setup;
   for (int f = 0; f < warmup + frames; ++f) {
     const FrameRecord& rec = renderer.render_frame(f);
     if (f < warmup) continue;
@@ -85,12 +93,6 @@ PointResult render_point(const std::string& scene, const std::string& profile_pa
   r.last = linear_color(renderer.buffers());
   r.last_display = display_color(renderer.buffers());
   return r;
-}
-
-// FNV-1a: names a reference by what it depends on.
-uint64_t fnv1a(const std::string& bytes, uint64_t h = 0xcbf29ce484222325ull) {
-  for (unsigned char c : bytes) h = (h ^ c) * 0x100000001b3ull;
-  return h;
 }
 
 nlohmann::json default_reference(nlohmann::json base) {
@@ -125,6 +127,7 @@ std::string sweep_csv(const nlohmann::json& doc) {
   std::string out = "point,";
   for (const std::string& k : keys) out += csv_field(k) + ",";
   out += "threads,frame_ms_p50,frame_ms_p95,frame_ms_p99,rel_luminance_mean,rel_luminance_p95,flip_mean";
+  out += truth_csv_header(doc["truth"]);
   for (const std::string& name : passes)
     for (const char* stat : {" p50", " p95", " mean"}) {
       out += ',';
@@ -146,6 +149,7 @@ std::string sweep_csv(const nlohmann::json& doc) {
       if (v.is_number()) std::snprintf(buf, sizeof buf, ",%.6f", v.get<double>());
       out += v.is_number() ? std::string(buf) : std::string(",");
     }
+    out += truth_csv_cells(doc["truth"], p);
     for (const std::string& name : passes) {
       if (!p["passes"].contains(name)) {
         out += ",,,";
@@ -163,7 +167,8 @@ std::string sweep_csv(const nlohmann::json& doc) {
 
 }  // namespace
 
-int sweep_command(const std::vector<std::string>& args, const PluginRegistry& registry) {
+int sweep_command(const std::vector<std::string>& args, const PluginRegistry& registry,
+                  const ModuleTruthRegistry& truth_registry) {
   ArgParser p("sweep", "cpurender sweep [SCENE] (--axis KEY=V1,V2,... | --point LABEL=PROFILE | --points FILE)... [options]", kDescription);
   p.option("axis", "KEY=V1,V2,...", "an axis of the sweep (repeat for more)")
       .option("point", "LABEL=PROFILE", "also a listed point: a profile (name, file or auto[:BASE]) as it is (repeat for more)")
@@ -176,6 +181,8 @@ int sweep_command(const std::vector<std::string>& args, const PluginRegistry& re
       .option("frames", "N", "measured frames per point", "8")
       .option("warmup", "N", "unmeasured frames first", "2")
       .option("threads", "N", "worker threads (a \"threads\" axis overrides it; default: all cores)")
+      .option("truth", "all|none|MODULE,...", "measure these modules against their own ground truths", "all")
+      .option("truth-setting", "MODULE.KEY=VALUE", "a ground truth's reference setting (repeat for more)")
       .option("out", "DIR", "output directory", "out/sweep")
       .flag("resume", "keep the finished points of an earlier run of the same sweep");
   if (!p.parse(args, 0, 1)) return 0;
@@ -198,6 +205,7 @@ int sweep_command(const std::vector<std::string>& args, const PluginRegistry& re
   std::set<std::string> ids;
   for (const SweepPoint& q : points)
     if (!ids.insert(q.id()).second) throw UsageError("sweep: two points named '" + q.id() + "'");
+  const SweepTruths truths = select_truths(truth_registry, p.get_list("truth"), p.get_all("truth-setting"));
   const RunRequest plan_request = plan_options(p);
   const int frames = p.get_int("frames", 1, 100000), warmup = p.get_int("warmup", 0, 1000);
   const unsigned threads = threads_option(p);
@@ -216,15 +224,18 @@ int sweep_command(const std::vector<std::string>& args, const PluginRegistry& re
   // What the sweep is: --resume refuses a file of another sweep.
   nlohmann::json doc = {{"scene", scene},          {"base", base},          {"reference", reference},
                         {"frames", frames},        {"warmup", warmup},      {"resolution", {width, height}},
-                        {"axes", nlohmann::json::array()}, {"points", nlohmann::json::array()}};
+                        {"truth", truths.definition()}, {"axes", nlohmann::json::array()},
+                        {"points", nlohmann::json::array()}};
   for (const SweepAxis& a : axes) doc["axes"].push_back({{"key", a.key}, {"values", a.values}});
   const std::string json_path = out + "/sweep.json";
   std::set<std::string> done;
   if (p.has("resume") && std::filesystem::exists(json_path)) {
     const nlohmann::json old = nlohmann::json::parse(read_file_bytes(json_path), nullptr, false);
     if (old.is_discarded() || !old.is_object()) throw InputError(json_path, "not a sweep file (JSON object)");
-    for (const char* k : {"scene", "base", "reference", "frames", "warmup", "resolution"})
-      if (old.value(k, nlohmann::json()) != doc[k])
+    // A sweep written before ground truths were measured measured none.
+    const nlohmann::json none = SweepTruths{}.definition();
+    for (const char* k : {"scene", "base", "reference", "frames", "warmup", "resolution", "truth"})
+      if (old.value(k, std::string(k) == "truth" ? none : nlohmann::json()) != doc[k])
         throw InputError(json_path, std::string("--resume: a different sweep (its \"") + k +
                                         "\" differs); use another --out or drop --resume");
     for (const nlohmann::json& row : old.value("points", nlohmann::json::array()))
@@ -236,12 +247,11 @@ int sweep_command(const std::vector<std::string>& args, const PluginRegistry& re
 
   // The reference render, cached by everything it depends on: the build, the
   // reference profile, the scene file, the resolution and the frame count.
-  const std::string ref_key = std::to_string(fnv1a(read_file_bytes("/proc/self/exe"))) + "|" + reference.dump() +
+  const std::string ref_key = build_hash() + "|" + reference.dump() +
                               "|" + scene + "|" + read_file_bytes(scene) + "|" +
                               std::to_string(width) + "x" + std::to_string(height) + "|" +
                               std::to_string(warmup + frames);
-  char ref_name[32];
-  std::snprintf(ref_name, sizeof ref_name, "%016llx", static_cast<unsigned long long>(fnv1a(ref_key)));
+  const std::string ref_name = cache_name(ref_key);
   const std::string ref_exr = out + "/references/" + ref_name + ".exr";
   const std::string ref_display_exr = out + "/references/" + ref_name + ".display.exr";
   ImageRGBf ref_image, ref_display;
@@ -326,6 +336,12 @@ int sweep_command(const std::vector<std::string>& args, const PluginRegistry& re
                       {"flip_mean", d.metrics.flip_mean}};
     } else {  // a resolution axis: the reference is at --resolution; no like-for-like error
       row["error"] = {{"rel_luminance_mean", nullptr}, {"rel_luminance_p95", nullptr}, {"flip_mean", nullptr}};
+    }
+    if (!truths.modules.empty()) {
+      const ModuleTruthRequest request{*r.setup.scene, r.setup.description, r.setup.profile,
+                                       planned ? r.plan->profile : profile, w, h, warmup + frames - 1, t,
+                                       nlohmann::json::object(), out + "/references", build_hash()};
+      row["module_error"] = measure_truths(truths, request);
     }
     doc["points"].push_back(row);
     ++rendered;

@@ -12,6 +12,7 @@
 
 #include "engine/core/job_system.h"
 #include "fog/tools/fog_command_common.h"
+#include "fog/tools/fog_reference.h"
 
 namespace cr {
 
@@ -30,5 +31,24 @@ struct FogAccuracy {
 };
 FogAccuracy measure_fog_accuracy(const FogRun& run, const PluginRegistry& registry, JobSystem& jobs, int frame,
                                  int samples, int warmup);
+
+// The parts sweep --truth shares:
+// the per-pixel reference of the base renderer's current frame (`view`), and
+// the reference's final image: the base colour seen through its fog.
+FogReferenceImage render_fog_reference(const FogRun& run, const Renderer& base, const FrameView& view, int samples,
+                                       JobSystem& jobs);
+std::vector<glm::vec3> fog_reference_composite(const Renderer& base, const FogReferenceImage& ref);
+// A froxel configuration run for `frames` frames of the static view (history
+// after the first), measured against `reference`; its last image in `image`.
+struct FroxelConfig {
+  const char* name;
+  FogProfileSettings profile;
+  int frames;
+};
+// The temporal configuration: the profile's grid after `warmup` frames of history, when it reprojects.
+FroxelConfig temporal_config(const FogProfileSettings& profile, int warmup);
+FogAccuracyRow measure_froxel_config(const FogRun& run, const Renderer& base, const FrameView& view, JobSystem& jobs,
+                                     const FroxelConfig& config, const std::vector<glm::vec3>& reference,
+                                     std::vector<glm::vec3>& image);
 
 }  // namespace cr

@@ -31,26 +31,28 @@ void add_fog_command_options(ArgParser& p) {
 }
 
 FogRun load_fog_run(const ArgParser& args, const PluginRegistry& registry) {
-  FogRun run;
   const std::vector<std::string> sections = registry.names();
-  run.profile = load_profile(resolve_profile_path(args.get("profile")), sections);
-  if (args.has("resolution"))
-    std::tie(run.profile.width, run.profile.height) = parse_resolution(args.get("resolution"), "fog");
+  Profile profile = load_profile(resolve_profile_path(args.get("profile")), sections);
+  if (args.has("resolution")) std::tie(profile.width, profile.height) = parse_resolution(args.get("resolution"), "fog");
+  SceneDescription description = load_scene_description(args.positional().at(0), sections, scene_asset_dirs());
+  GltfLoadOptions options;
+  options.texture_decode_budget = size_t(profile.texture_decode_budget_mb) << 20;
+  auto scene = std::make_shared<Scene>(load_gltf(description.gltf_path, options));
+  pose_described_scene(*scene, description);  // the scene file's animation pose, else the rest pose
+  return make_fog_run(std::move(description), std::move(profile), std::move(scene));
+}
+
+FogRun make_fog_run(SceneDescription description, Profile profile, std::shared_ptr<const Scene> scene) {
+  FogRun run{std::move(description), std::move(profile), std::move(scene), {}, {}};
   // The tools composite the fog over the base renderer's output-size buffers.
   if (run.profile.scaled())
     throw InputError(run.profile.path, "render_scale: the fog tools measure at the output size; it must be 1");
-  const std::string& scene = args.positional().at(0);
-  run.description = load_scene_description(scene, sections, scene_asset_dirs());
   if (!run.description.plugins.contains("fog"))
-    throw InputError(scene, "has no \"fog\" section: nothing to measure");
+    throw InputError(run.description.path, "has no \"fog\" section: nothing to measure");
   run.fog_scene = parse_fog_scene(run.description.plugins.at("fog"), run.description.path);
   if (run.profile.plugins.contains("fog"))
     run.fog_profile = parse_fog_profile(run.profile.plugins.at("fog"), run.profile.path);
   run.fog_profile = resolve_fog_settings(run.fog_profile, run.fog_scene);
-  GltfLoadOptions options;
-  options.texture_decode_budget = size_t(run.profile.texture_decode_budget_mb) << 20;
-  run.scene = std::make_unique<Scene>(load_gltf(run.description.gltf_path, options));
-  pose_described_scene(*run.scene, run.description);  // the scene file's animation pose, else the rest pose
   return run;
 }
 

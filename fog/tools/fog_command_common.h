@@ -24,13 +24,16 @@ void add_fog_command_options(ArgParser& p);
 struct FogRun {
   SceneDescription description;
   Profile profile;
-  std::unique_ptr<Scene> scene;
+  std::shared_ptr<const Scene> scene;
   FogSceneSettings fog_scene;
   FogProfileSettings fog_profile;
 };
 // Loads scene, profile (a path, or a name under <exe dir>/profiles) and glTF;
 // the scene must have a "fog" section.
 FogRun load_fog_run(const ArgParser& args, const PluginRegistry& registry);
+// A run of a loaded scene and profile: its fog settings. InputError when the
+// scene has no "fog" section or the profile renders at another size than its output.
+FogRun make_fog_run(SceneDescription description, Profile profile, std::shared_ptr<const Scene> scene);
 
 // The run's scene with the sun's azimuth turning `degrees_per_frame` over
 // frames [0, frames) from its direction in `first` (frame 0's view), at the

@@ -8,6 +8,7 @@
 namespace cr {
 
 class CommandRegistry;
+class ModuleTruthRegistry;
 
 // fog-accuracy SCENE [--profile P] [--resolution WxH] [--frame F] [--threads N] [--samples S] [--warmup W]
 int fog_accuracy_command(const std::vector<std::string>& args, const PluginRegistry& registry);
@@ -18,7 +19,8 @@ int fog_temporal_command(const std::vector<std::string>& args, const PluginRegis
 int fog_bench_command(const std::vector<std::string>& args, const PluginRegistry& registry);
 // fog-stability --out DIR [--grids medium,temporal] [--resolution WxH] [--frames N] [--samples S] [--threads N]
 int fog_stability_command(const std::vector<std::string>& args, const PluginRegistry& registry);
-// Adds fog-accuracy, fog-temporal, fog-bench and fog-stability.
-void register_fog_commands(CommandRegistry& commands, const PluginRegistry& plugins);
+// Adds fog-accuracy, fog-temporal, fog-bench and fog-stability, and the fog's
+// ground truth for sweep --truth (fog_truth.h).
+void register_fog_commands(CommandRegistry& commands, ModuleTruthRegistry& truths, const PluginRegistry& plugins);
 
 }  // namespace cr

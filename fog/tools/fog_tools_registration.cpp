@@ -1,5 +1,6 @@
 #include "engine/cli/command_registry.h"
 #include "fog/tools/fog_commands.h"
+#include "fog/tools/fog_truth.h"
 
 namespace cr {
 
@@ -14,7 +15,7 @@ CliCommand command(const char* name, const char* summary, const PluginRegistry& 
 
 }  // namespace
 
-void register_fog_commands(CommandRegistry& commands, const PluginRegistry& plugins) {
+void register_fog_commands(CommandRegistry& commands, ModuleTruthRegistry& truths, const PluginRegistry& plugins) {
   commands.add(command("fog-accuracy", "froxel fog vs per-pixel ray-marched reference: error and time", plugins,
                        fog_accuracy_command));
   commands.add(command("fog-temporal", "fog ghosting on a fast camera path and temporal noise when static", plugins,
@@ -23,6 +24,7 @@ void register_fog_commands(CommandRegistry& commands, const PluginRegistry& plug
                        fog_bench_command));
   commands.add(command("fog-stability", "fog error map over extinction, g, camera speed and history weight; rejection",
                        plugins, fog_stability_command));
+  truths.add(fog_truth(plugins));
 }
 
 }  // namespace cr

@@ -8,6 +8,7 @@
 #include "engine/cli/arg_parser.h"
 #include "engine/cli/cli_common.h"
 #include "engine/cli/commands.h"
+#include "engine/cli/module_truth.h"
 #include "engine/cli/sweep_points.h"
 #include "engine/core/error.h"
 #include "engine/core/json_input.h"
@@ -17,6 +18,11 @@
 
 using cr::SweepAxis;
 using cr::SweepPoint;
+
+namespace {
+// These sweeps measure no module against its ground truth (sweep_truth_test.cpp does).
+const cr::ModuleTruthRegistry no_truths;
+}  // namespace
 
 TEST_CASE("sweep axes: typed values, WxH resolutions, clear errors") {
   const SweepAxis a = cr::parse_sweep_axis("atmosphere.spectral_samples=3,6");
@@ -60,7 +66,7 @@ TEST_CASE("sweep: a row per point with times and error, the reference rendered o
   const std::vector<std::string> args = {scene,       "--base",   profile, "--axis", "antialiasing=none,msaa4",
                                          "--resolution", "96x54", "--frames", "2",    "--warmup",
                                          "0",           "--threads", "2",   "--out",  out};
-  REQUIRE(cr::sweep_command(args, registry) == 0);
+  REQUIRE(cr::sweep_command(args, registry, no_truths) == 0);
   const nlohmann::json doc = cr::load_json_file(out + "/sweep.json");
   REQUIRE(doc["points"].size() == 2);
   for (const nlohmann::json& row : doc["points"]) {
@@ -86,7 +92,7 @@ TEST_CASE("sweep: a row per point with times and error, the reference rendered o
   std::vector<std::string> more = args;
   more[4] = "antialiasing=none,msaa4,msaa2";
   more.push_back("--resume");
-  REQUIRE(cr::sweep_command(more, registry) == 0);
+  REQUIRE(cr::sweep_command(more, registry, no_truths) == 0);
   const nlohmann::json resumed = cr::load_json_file(out + "/sweep.json");
   REQUIRE(resumed["points"].size() == 3);
   CHECK(resumed["points"][0] == doc["points"][0]);
@@ -96,12 +102,12 @@ TEST_CASE("sweep: a row per point with times and error, the reference rendered o
   // A different sweep in the same directory is refused.
   std::vector<std::string> other = more;
   other[8] = "3";  // --frames 3
-  CHECK_THROWS_AS(cr::sweep_command(other, registry), cr::InputError);
+  CHECK_THROWS_AS(cr::sweep_command(other, registry, no_truths), cr::InputError);
   // No axis, or a key the profile rejects.
-  CHECK_THROWS_AS(cr::sweep_command({scene, "--base", profile, "--out", out}, registry), cr::UsageError);
+  CHECK_THROWS_AS(cr::sweep_command({scene, "--base", profile, "--out", out}, registry, no_truths), cr::UsageError);
   CHECK_THROWS_AS(cr::sweep_command({scene, "--base", profile, "--axis", "no_such_key=1", "--resolution", "32x18",
                                      "--frames", "1", "--warmup", "0", "--out", dir.file("bad")},
-                                    registry),
+                                    registry, no_truths),
                   cr::InputError);
 }
 
@@ -120,7 +126,7 @@ TEST_CASE("sweep listed points: --point LABEL=PROFILE, a sweep file, auto points
   const std::vector<std::string> args = {scene, "--base", profile, "--points", file, "--point", "desktop=" + profile,
                                          "--point", "auto=auto:" + profile, "--plan-table", table, "--resolution", "96x54",
                                          "--frames", "3", "--warmup", "0", "--threads", "2", "--out", out};
-  REQUIRE(cr::sweep_command(args, registry) == 0);
+  REQUIRE(cr::sweep_command(args, registry, no_truths) == 0);
   const nlohmann::json doc = cr::load_json_file(out + "/sweep.json");
   REQUIRE(doc["points"].size() == 3);
   CHECK(doc["points"][0]["label"] == "desktop, no AA");
@@ -141,11 +147,11 @@ TEST_CASE("sweep listed points: --point LABEL=PROFILE, a sweep file, auto points
   const std::string csv = cr::read_file_bytes(out + "/sweep.csv");
   CHECK(csv.find("\ndesktop,") != std::string::npos);
   // A second sweep reads the cached reference (float EXR): the same errors as the render it cached.
-  REQUIRE(cr::sweep_command(args, registry) == 0);
+  REQUIRE(cr::sweep_command(args, registry, no_truths) == 0);
   const nlohmann::json again = cr::load_json_file(out + "/sweep.json");
   for (size_t i = 0; i < 3; ++i) CHECK(again["points"][i]["error"] == doc["points"][i]["error"]);
   // Two points of one name, and keys set on an auto point, are refused.
-  CHECK_THROWS_AS(cr::sweep_command({scene, "--point", "a=desktop", "--point", "a=mobile", "--out", out}, registry),
+  CHECK_THROWS_AS(cr::sweep_command({scene, "--point", "a=desktop", "--point", "a=mobile", "--out", out}, registry, no_truths),
                   cr::UsageError);
   CHECK_THROWS_AS(cr::parse_listed_point("noprofile"), cr::UsageError);
   CHECK_THROWS_AS(cr::parse_sweep_file(nlohmann::json{{"points", {{{"profile", "x"}}}}}, "f.json"), cr::InputError);
