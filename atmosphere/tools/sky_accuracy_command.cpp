@@ -239,7 +239,9 @@ int sky_accuracy_command(const std::vector<std::string>& args) {
           std::snprintf(note, sizeof note, " (biased)");
         verdict += note;
       } else if (es.noise_expected > 0.01) {
-        verdict += " (ref noise too high: raise --spp)";
+        // A string, not a literal: GCC 12's -Warray-bounds misfires on appending the literal here.
+        static const std::string kNoisy = " (ref noise too high: raise --spp)";
+        verdict += kNoisy;
       }
       if (ce.rg_bias >= 0.0 && (ce.rg > target.color || ce.bg > target.color) && target.color > 0.0) {
         char note[96];

@@ -51,12 +51,6 @@ void print_help(const std::vector<CliCommand>& cmds) {
 
 }  // namespace
 
-int run_cli(int argc, char** argv, const std::function<void(PluginRegistry&, CommandRegistry&)>& register_builtins) {
-  return run_cli(argc, argv, [&](PluginRegistry& plugins, CommandRegistry& commands, ModuleTruthRegistry&) {
-    register_builtins(plugins, commands);
-  });
-}
-
 int run_cli(int argc, char** argv,
             const std::function<void(PluginRegistry&, CommandRegistry&, ModuleTruthRegistry&)>& register_builtins) {
   PluginRegistry registry;

@@ -18,7 +18,5 @@ void register_builtin_tools(CommandRegistry& commands, ModuleTruthRegistry& trut
 // Runs the CLI with the plugins, tool commands and module truths that `register_builtins` adds.
 int run_cli(int argc, char** argv,
             const std::function<void(PluginRegistry&, CommandRegistry&, ModuleTruthRegistry&)>& register_builtins);
-// The same without module truths (a sweep then measures none).
-int run_cli(int argc, char** argv, const std::function<void(PluginRegistry&, CommandRegistry&)>& register_builtins);
 
 }  // namespace cr

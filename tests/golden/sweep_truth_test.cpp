@@ -33,7 +33,9 @@ struct Builtins {
 };
 
 // The shipped scenes, beside the generated default.glb they name.
-std::string shipped_scene(const std::string& name) { return std::string(CR_BINARY_DIR) + "/scenes/" + name + ".json"; }
+std::string shipped_scene(const std::string& name) {
+  return (std::filesystem::path(CR_BINARY_DIR) / "scenes" / (name + ".json")).string();
+}
 const std::string kDesktop = std::string(CR_SOURCE_DIR) + "/profiles/desktop.json";
 
 // Cached truth references (*.sky.exr, *.fog.exr) in a sweep's references/.

@@ -15,6 +15,7 @@
 #include "engine/cli/arg_parser.h"
 #include "engine/cli/cli_common.h"
 #include "engine/cli/command_registry.h"
+#include "engine/cli/module_truth.h"
 #include "engine/cli/commands.h"
 #include "engine/core/error.h"
 #include "engine/core/json_input.h"
@@ -84,7 +85,7 @@ TEST_CASE("CLI: std::bad_alloc reaches the user as an out-of-memory message and 
   dup2(fileno(f), 2);
   char cmd[] = "cpurender", name[] = "oom";
   char* argv[] = {cmd, name};
-  const int rc = cr::run_cli(2, argv, [](cr::PluginRegistry&, cr::CommandRegistry& commands) {
+  const int rc = cr::run_cli(2, argv, [](cr::PluginRegistry&, cr::CommandRegistry& commands, cr::ModuleTruthRegistry&) {
     commands.add({"oom", "throws std::bad_alloc", [](const std::vector<std::string>&) -> int { throw std::bad_alloc(); }});
   });
   std::fflush(stderr);

@@ -64,7 +64,7 @@ struct RenderRun {
     std::vector<char*> argv;
     for (std::string& a : args) argv.push_back(a.data());
     std::shared_ptr<Probe> shared = probe;
-    return cr::run_cli(int(argv.size()), argv.data(), [shared](cr::PluginRegistry& registry, cr::CommandRegistry&) {
+    return cr::run_cli(int(argv.size()), argv.data(), [shared](cr::PluginRegistry& registry, cr::CommandRegistry&, cr::ModuleTruthRegistry&) {
       registry.add("probe", [shared] { return std::make_unique<ProbePlugin>(shared); });
     });
   }

@@ -119,7 +119,7 @@ def main():
         out = os.path.join(args.out, tag)
         cmd = [cpurender, "sweep", scene, "--points", points_file, "--base", ref_path, "--reference", ref_path,
                "--resolution", f"{RESOLUTION[0]}x{RESOLUTION[1]}", "--threads", str(THREADS),
-               "--warmup", str(WARMUP), "--frames", str(FRAMES), "--out", out, "--resume"]
+               "--warmup", str(WARMUP), "--frames", str(FRAMES), "--out", out, "--resume", "--truth", "none"]
         print(" ".join(cmd), file=sys.stderr)
         subprocess.run(cmd, check=True)
         sweep_path = os.path.join(out, "sweep.json")
