@@ -31,7 +31,8 @@ const char* const kDescription =
     "Renders SCENE (default: the generated default scene) at every point of the cross product of the\n"
     "--axis options, each a profile key (a dotted path into the profile JSON, e.g.\n"
     "atmosphere.skyview_lut.width) with its values, plus \"threads\" and \"resolution\" (WxH). Each point\n"
-    "is the --base profile with its keys set; it renders --warmup + --frames frames and records the\n"
+    "is the --base profile with its keys set; it renders --warmup + --frames frames of the scene's path\n"
+    "from --first-frame (a cold start there) and records the\n"
     "median and p95 time of every pass and of the frame over the measured frames, and the error of the\n"
     "last frame against a reference render of the same frames (mean and p95 relative luminance error of\n"
     "the linear frames, mean LDR-FLIP of the displayed ones). The reference is --reference (a profile), by default the base profile with 8x MSAA and,\n"
@@ -72,9 +73,12 @@ ImageRGBf display_color(const FrameBuffers& b) {
   return img;
 }
 
+// Frames first .. first + warmup + frames - 1 of the scene's path, the first
+// `warmup` unmeasured (a cold start at `first`, as a render from there).
 PointResult render_point(const std::string& scene, const std::string& profile_path, const PluginRegistry& registry,
-                         int width, int height, unsigned threads, int warmup, int frames, RunRequest request = {}) {
-  request.frames = warmup + frames;
+                         int width, int height, unsigned threads, int first, int warmup, int frames,
+                         RunRequest request = {}) {
+  request.frames = first + warmup + frames;
   const RunSetup setup = load_run(scene, profile_path, registry, width, height, threads, {},
                                   MemoryBudget::default_limit(), request);
   JobSystem jobs(threads);
@@ -84,9 +88,9 @@ PointResult render_point(const std::string& scene, const std::string& profile_pa
   r.frames = frames;
   r.plan = setup.plan;
   r.setup = setup;
-  for (int f = 0; f < warmup + frames; ++f) {
+  for (int f = first; f < first + warmup + frames; ++f) {
     const FrameRecord& rec = renderer.render_frame(f);
-    if (f < warmup) continue;
+    if (f < first + warmup) continue;
     r.frame_ms.push_back(rec.frame_ms);
     for (const PassTiming& p : rec.passes) r.pass_ms[p.name].push_back(p.ms());
   }
@@ -180,6 +184,7 @@ int sweep_command(const std::vector<std::string>& args, const PluginRegistry& re
       .option("resolution", "WxH", "resolution of every point (a \"resolution\" axis overrides it)", "640x360")
       .option("frames", "N", "measured frames per point", "8")
       .option("warmup", "N", "unmeasured frames first", "2")
+      .option("first-frame", "N", "first frame of the scene's path to render (a cold start there)", "0")
       .option("threads", "N", "worker threads (a \"threads\" axis overrides it; default: all cores)")
       .option("truth", "all|none|MODULE,...", "measure these modules against their own ground truths", "all")
       .option("truth-setting", "MODULE.KEY=VALUE", "a ground truth's reference setting (repeat for more)")
@@ -208,6 +213,8 @@ int sweep_command(const std::vector<std::string>& args, const PluginRegistry& re
   const SweepTruths truths = select_truths(truth_registry, p.get_list("truth"), p.get_all("truth-setting"));
   const RunRequest plan_request = plan_options(p);
   const int frames = p.get_int("frames", 1, 100000), warmup = p.get_int("warmup", 0, 1000);
+  const int first = p.get_int("first-frame", 0, 1 << 20);
+  const int last_frame = first + warmup + frames - 1;  // the one whose error is measured
   const unsigned threads = threads_option(p);
   const auto [width, height] = parse_resolution(p.get("resolution"), "sweep");
   const std::string out = p.get("out");
@@ -223,7 +230,8 @@ int sweep_command(const std::vector<std::string>& args, const PluginRegistry& re
 
   // What the sweep is: --resume refuses a file of another sweep.
   nlohmann::json doc = {{"scene", scene},          {"base", base},          {"reference", reference},
-                        {"frames", frames},        {"warmup", warmup},      {"resolution", {width, height}},
+                        {"frames", frames},        {"warmup", warmup},      {"first_frame", first},
+                        {"resolution", {width, height}},
                         {"truth", truths.definition()}, {"axes", nlohmann::json::array()},
                         {"points", nlohmann::json::array()}};
   for (const SweepAxis& a : axes) doc["axes"].push_back({{"key", a.key}, {"values", a.values}});
@@ -232,10 +240,11 @@ int sweep_command(const std::vector<std::string>& args, const PluginRegistry& re
   if (p.has("resume") && std::filesystem::exists(json_path)) {
     const nlohmann::json old = nlohmann::json::parse(read_file_bytes(json_path), nullptr, false);
     if (old.is_discarded() || !old.is_object()) throw InputError(json_path, "not a sweep file (JSON object)");
-    // A sweep written before ground truths were measured measured none.
-    const nlohmann::json none = SweepTruths{}.definition();
-    for (const char* k : {"scene", "base", "reference", "frames", "warmup", "resolution", "truth"})
-      if (old.value(k, std::string(k) == "truth" ? none : nlohmann::json()) != doc[k])
+    // A sweep written before ground truths were measured measured none; one
+    // written before --first-frame started at frame 0.
+    const std::map<std::string, nlohmann::json> defaults = {{"truth", SweepTruths{}.definition()}, {"first_frame", 0}};
+    for (const char* k : {"scene", "base", "reference", "frames", "warmup", "first_frame", "resolution", "truth"})
+      if (old.value(k, defaults.contains(k) ? defaults.at(k) : nlohmann::json()) != doc[k])
         throw InputError(json_path, std::string("--resume: a different sweep (its \"") + k +
                                         "\" differs); use another --out or drop --resume");
     for (const nlohmann::json& row : old.value("points", nlohmann::json::array()))
@@ -246,11 +255,11 @@ int sweep_command(const std::vector<std::string>& args, const PluginRegistry& re
   }
 
   // The reference render, cached by everything it depends on: the build, the
-  // reference profile, the scene file, the resolution and the frame count.
+  // reference profile, the scene file, the resolution and the frames.
   const std::string ref_key = build_hash() + "|" + reference.dump() +
                               "|" + scene + "|" + read_file_bytes(scene) + "|" +
                               std::to_string(width) + "x" + std::to_string(height) + "|" +
-                              std::to_string(warmup + frames);
+                              std::to_string(warmup + frames) + (first > 0 ? "|from " + std::to_string(first) : "");
   const std::string ref_name = cache_name(ref_key);
   const std::string ref_exr = out + "/references/" + ref_name + ".exr";
   const std::string ref_display_exr = out + "/references/" + ref_name + ".display.exr";
@@ -262,7 +271,7 @@ int sweep_command(const std::vector<std::string>& args, const PluginRegistry& re
     const std::string ref_profile = out + "/references/" + ref_name + ".json";
     write_file_atomic(ref_profile, reference.dump(2) + "\n");
     std::fprintf(stderr, "sweep: rendering the reference (%s)\n", ref_profile.c_str());
-    const PointResult r = render_point(scene, ref_profile, registry, width, height, threads, 0, warmup + frames);
+    const PointResult r = render_point(scene, ref_profile, registry, width, height, threads, first, 0, warmup + frames);
     ref_image = r.last;
     ref_display = r.last_display;
     // Float channels: a frame's radiance (the sun's disk) overflows half floats.
@@ -308,8 +317,8 @@ int sweep_command(const std::vector<std::string>& args, const PluginRegistry& re
     const std::string profile_path = out + "/profiles/point_" + std::to_string(i) + ".json";
     if (!planned) write_file_atomic(profile_path, profile.dump(2) + "\n");
     const unsigned t = sweep_point_threads(point, threads);
-    PointResult r = render_point(scene, planned ? point.profile : profile_path, registry, w, h, t, warmup, frames,
-                                 plan_request);
+    PointResult r = render_point(scene, planned ? point.profile : profile_path, registry, w, h, t, first, warmup,
+                                 frames, plan_request);
     if (planned) write_file_atomic(profile_path, r.plan->profile.dump(2) + "\n");  // what the plan rendered
     nlohmann::json row = {{"point", point.id()}, {"settings", nlohmann::json::object()}, {"threads", t},
                           {"profile", profile_path}};
@@ -339,7 +348,7 @@ int sweep_command(const std::vector<std::string>& args, const PluginRegistry& re
     }
     if (!truths.modules.empty()) {
       const ModuleTruthRequest request{*r.setup.scene, r.setup.description, r.setup.profile,
-                                       planned ? r.plan->profile : profile, w, h, warmup + frames - 1, t,
+                                       planned ? r.plan->profile : profile, w, h, last_frame, t,
                                        nlohmann::json::object(), out + "/references", build_hash()};
       row["module_error"] = measure_truths(truths, request);
     }

@@ -156,3 +156,30 @@ TEST_CASE("sweep listed points: --point LABEL=PROFILE, a sweep file, auto points
   CHECK_THROWS_AS(cr::parse_listed_point("noprofile"), cr::UsageError);
   CHECK_THROWS_AS(cr::parse_sweep_file(nlohmann::json{{"points", {{{"profile", "x"}}}}}, "f.json"), cr::InputError);
 }
+
+TEST_CASE("sweep --first-frame: points and the reference start cold at that frame of the path") {
+  cr::test::ScratchDir dir("sweep_first_frame");
+  cr::PluginRegistry registry;
+  cr::register_builtin_plugins(registry);
+  const std::string scene = std::string(CR_BINARY_DIR) + "/scenes/default_flythrough.json";
+  const std::string profile = std::string(CR_SOURCE_DIR) + "/profiles/desktop.json";
+  const std::string out = dir.file("out");
+  // A point rendering the reference's own profile: zero error only if both render the same frames.
+  const std::vector<std::string> args = {scene, "--base", profile, "--reference", profile, "--point",
+                                         "same=" + profile, "--axis", "antialiasing=none", "--resolution", "64x36",
+                                         "--frames", "1", "--warmup", "1", "--threads", "2", "--first-frame", "20",
+                                         "--out", out};
+  REQUIRE(cr::sweep_command(args, registry, no_truths) == 0);
+  const nlohmann::json doc = cr::load_json_file(out + "/sweep.json");
+  CHECK(doc["first_frame"] == 20);
+  REQUIRE(doc["points"].size() == 2);
+  const nlohmann::json& same = doc["points"][0]["label"] == "same" ? doc["points"][0] : doc["points"][1];
+  CHECK(same["error"]["rel_luminance_mean"].get<double>() == 0.0);
+  const nlohmann::json& other = doc["points"][0]["label"] == "same" ? doc["points"][1] : doc["points"][0];
+  CHECK(other["error"]["rel_luminance_mean"].get<double>() > 0.0);
+  // Resuming from another frame is another sweep.
+  std::vector<std::string> moved = args;
+  moved[moved.size() - 3] = "0";
+  moved.push_back("--resume");
+  CHECK_THROWS_AS(cr::sweep_command(moved, registry, no_truths), cr::InputError);
+}
