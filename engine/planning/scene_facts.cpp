@@ -24,6 +24,22 @@ double farthest_corner(const glm::dvec3& p, const glm::vec3& lo, const glm::vec3
   return std::sqrt(d2);
 }
 
+// The share of the view the box's projected rectangle covers: 1 when a
+// corner lies behind the camera's near plane (the camera among the bounds).
+double screen_coverage(const Camera& camera, const glm::vec3& lo, const glm::vec3& hi) {
+  const glm::mat4 view_proj = camera.view_proj();
+  glm::vec2 a(1.0f), b(-1.0f);
+  for (int i = 0; i < 8; ++i) {
+    const glm::dvec3 corner((i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z);
+    const glm::vec4 c = view_proj * glm::vec4(glm::vec3(corner - camera.position), 1.0f);
+    if (!(c.w > 0.0f)) return 1.0;
+    const glm::vec2 ndc = glm::clamp(glm::vec2(c) / c.w, glm::vec2(-1.0f), glm::vec2(1.0f));
+    a = glm::min(a, ndc);
+    b = glm::max(b, ndc);
+  }
+  return b.x > a.x && b.y > a.y ? double(b.x - a.x) * double(b.y - a.y) / 4.0 : 0.0;
+}
+
 }  // namespace
 
 SceneFacts analyse_scene(const Scene& scene, const SceneDescription& description, int frames, int width,
@@ -42,9 +58,12 @@ SceneFacts analyse_scene(const Scene& scene, const SceneDescription& description
     f.max_sun_elevation_deg = std::max(f.max_sun_elevation_deg, elevation);
     f.min_camera_height_m = i == 0 ? height_m : std::min(f.min_camera_height_m, height_m);
     f.max_camera_height_m = i == 0 ? height_m : std::max(f.max_camera_height_m, height_m);
-    if (f.has_geometry)
+    if (f.has_geometry) {
       f.max_geometry_distance_m =
           std::max(f.max_geometry_distance_m, farthest_corner(v.camera.position, scene.bounds_min, scene.bounds_max));
+      f.max_geometry_coverage =
+          std::max(f.max_geometry_coverage, screen_coverage(v.camera, scene.bounds_min, scene.bounds_max));
+    }
     if (i > 0) {
       f.max_camera_speed_m = std::max(f.max_camera_speed_m, glm::length(v.camera.position - prev.camera.position));
       f.max_camera_turn_deg = std::max(f.max_camera_turn_deg, angle_deg(v.camera.forward, prev.camera.forward));

@@ -19,7 +19,8 @@ nlohmann::json SceneFacts::to_json() const {
           {"twilight", twilight()},
           {"camera_height_m", {min_camera_height_m, max_camera_height_m}},
           {"has_geometry", has_geometry},
-          {"max_geometry_distance_m", max_geometry_distance_m}};
+          {"max_geometry_distance_m", max_geometry_distance_m},
+          {"max_geometry_coverage", max_geometry_coverage}};
 }
 
 std::vector<PlanOption> parse_plan_options(const nlohmann::json& options, const std::string& file,

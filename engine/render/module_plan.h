@@ -28,6 +28,10 @@ struct SceneFacts {
   double min_camera_height_m = 0.0;        // camera y (the scene's up axis) over the frames
   double max_camera_height_m = 0.0;
   double max_geometry_distance_m = 0.0;    // farthest corner of the scene's bounds from any camera
+  // The largest share of the view the scene's bounds cover on screen (their
+  // projected rectangle; 1 where the camera is among them): an upper bound
+  // of the pixels that shade geometry.
+  double max_geometry_coverage = 0.0;
   bool has_geometry = false;
   bool camera_static() const { return max_camera_speed_m == 0.0 && max_camera_turn_deg == 0.0; }
   bool sun_static() const { return max_sun_turn_deg == 0.0; }

@@ -123,6 +123,49 @@ TEST_CASE("auto plan: what the scene does not use costs nothing, still scenes pa
   CHECK(small.plan.predicted_ms == doctest::Approx(2.5 + 0.1));
 }
 
+TEST_CASE("auto plan: a view that geometry barely covers keeps render scale 1") {
+  nlohmann::json table = synthetic_table();
+  // A third engine option, the cheapest: half the resolution.
+  table["modules"]["engine"]["options"].push_back(
+      {{"name", "half"}, {"settings", {{"antialiasing", "none"}, {"render_scale", 0.5}}}, {"cost_ms", 4.0}, {"error", 0.005}});
+  // The village from inside it: the bounds fill the view, and the scale is the cheapest fit.
+  const Planned village = plan_for(scene_path("default"), 0.02, table);
+  CHECK(village.plan.facts.max_geometry_coverage == 1.0);
+  CHECK(chosen(village.plan, "engine") == "half");
+  // From orbit the village is a speck: no scaled option, and the plan says why.
+  const Planned orbit = plan_for(scene_path("sky_orbit"), 0.02, table);
+  CHECK(orbit.plan.facts.max_geometry_coverage < 0.01);
+  CHECK(chosen(orbit.plan, "engine") != "half");
+  const cr::ModulePlan& engine = module(orbit.plan, "engine");
+  CHECK(engine.options.size() == 2);
+  REQUIRE_FALSE(engine.settings.empty());
+  CHECK(engine.settings.back().key == "render_scale");
+  CHECK(engine.settings.back().reason.find("geometry covers at most") != std::string::npos);
+  CHECK(orbit.plan.profile["render_scale"] == 1.0);
+}
+
+TEST_CASE("auto plan: geometry coverage is the projected bounds' share of the view") {
+  cr::Scene scene;
+  scene.draws.push_back({});  // geometry whose bounds are a 2 m cube at the origin
+  scene.bounds_min = glm::vec3(-1.0f);
+  scene.bounds_max = glm::vec3(1.0f);
+  cr::SceneDescription d;
+  cr::CameraKey key;
+  key.vfov_deg = 90.0f;
+  key.target = {0, 0, 0};
+  for (double distance : {3.0, 5.0, 9.0}) {
+    key.position = {0, 0, distance};
+    d.camera.keys = {key};
+    // A square view at 90 degrees: the cube's near face, distance - 1 away,
+    // spans 2 / (distance - 1) of each axis's 2 NDC units.
+    const double side = 1.0 / (distance - 1.0);
+    CHECK(cr::analyse_scene(scene, d, 1, 100, 100).max_geometry_coverage == doctest::Approx(side * side).epsilon(1e-4));
+  }
+  key.position = {0, 0, 0.5};  // inside the bounds: corners behind the camera
+  d.camera.keys = {key};
+  CHECK(cr::analyse_scene(scene, d, 1, 100, 100).max_geometry_coverage == 1.0);
+}
+
 TEST_CASE("auto plan: an option's error is the largest measured on table scenes of the planned scene's kind") {
   nlohmann::json table = synthetic_table();
   // X: 0.2% on still day scenes, 1% (its "error") elsewhere.

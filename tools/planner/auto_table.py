@@ -3,16 +3,22 @@
 (profiles/planner/auto_table.json; docs/planner.md).
 
 For every module of a frame (the engine's passes, the atmosphere, the fog) the options below are
-rendered on the scenes that use the module, each as the table's reference profile with only that
-module's keys changed, so the whole frame's error against the reference render is that option's own:
+rendered on the scenes that use the module. Two sweeps per scene:
+  error  each option as the table's reference profile with only that module's keys changed, so the
+         whole frame's error against the reference render is that option's own; on a scene whose
+         camera or sun moves, at the start of its path and again at its end (--first-frame), since
+         a path's error changes along it (a setting sun's grows);
+  cost   each option as the desktop profile with that module's keys changed, so a module's passes
+         run beside the other modules' shipped settings rather than the reference's (whose LUTs
+         rebuild every frame at 15 wavelengths).
 
   cpurender sweep SCENE --points FILE --reference REF --resolution 1280x720 --threads 2 ...
 
 Per option the table keeps
   error          the largest mean relative luminance error of the last frame over the scenes,
-  errors         the error on each scene with the scene's kind (camera or sun moving; sun within 6
-                 degrees of the horizon): the planner takes the largest over scenes of the planned
-                 scene's kind,
+  errors         the error on each scene (the larger of its windows) with the scene's kind (camera
+                 or sun moving; sun within 6 degrees of the horizon): the planner takes the largest
+                 over scenes of the planned scene's kind,
   cost_ms        the largest per-frame cost of the module's passes (amortised over the measured
                  frames) over the scenes where the camera or the sun moves,
   static_cost_ms the same over the scenes where both hold still (LUTs are then built once).
@@ -102,41 +108,54 @@ def main():
     WARMUP, FRAMES = args.warmup, args.frames
     cpurender = os.path.join(args.build, "cpurender")
     os.makedirs(args.out, exist_ok=True)
-    desktop = json.load(open("profiles/desktop.json"))
+    desktop_path = "profiles/desktop.json"
+    desktop = json.load(open(desktop_path))
     ref_path = os.path.join(args.out, "reference.json")
     json.dump(reference_profile(desktop), open(ref_path, "w"), indent=2)
 
     measured = {m: {name: {"errors": [], "cost": [], "static": []} for name, _ in opts}
                 for m, opts in OPTIONS.items()}
-    for scene, modules, moving, twilight in SCENES:
-        points = []
-        for m in modules:
-            for name, settings in OPTIONS[m]:
-                points.append({"label": f"{m}: {name}", "profile": ref_path, "settings": settings})
-        tag = os.path.splitext(os.path.basename(scene))[0]
+
+    def sweep(scene, tag, base, modules, first_frame=0):
+        """Rows of a sweep of every option of `modules` on `base`, keyed by (module, option)."""
+        points = [{"label": f"{m}: {name}", "profile": base, "settings": settings}
+                  for m in modules for name, settings in OPTIONS[m]]
         points_file = os.path.join(args.out, f"{tag}.points.json")
         json.dump({"points": points}, open(points_file, "w"), indent=2)
         out = os.path.join(args.out, tag)
-        cmd = [cpurender, "sweep", scene, "--points", points_file, "--base", ref_path, "--reference", ref_path,
+        cmd = [cpurender, "sweep", scene, "--points", points_file, "--base", base, "--reference", ref_path,
                "--resolution", f"{RESOLUTION[0]}x{RESOLUTION[1]}", "--threads", str(THREADS),
-               "--warmup", str(WARMUP), "--frames", str(FRAMES), "--out", out, "--resume", "--truth", "none"]
+               "--warmup", str(WARMUP), "--frames", str(FRAMES), "--first-frame", str(first_frame),
+               "--out", out, "--resume", "--truth", "none"]
         print(" ".join(cmd), file=sys.stderr)
         subprocess.run(cmd, check=True)
         sweep_path = os.path.join(out, "sweep.json")
-        sweep = json.load(open(sweep_path))
-        for row in sweep["points"]:
-            m, name = row["label"].split(": ", 1)
+        doc = json.load(open(sweep_path))
+        # Only this module differs from the reference: the frame's error is the module's
+        # (tools/report charts it per module).
+        if base == ref_path:
+            for row in doc["points"]:
+                m = row["label"].split(": ", 1)[0]
+                if m != "engine":
+                    row["module_error"] = {m: {k: row["error"][k] for k in ("rel_luminance_mean", "rel_luminance_p95")}}
+            with open(sweep_path + ".tmp", "w") as f:
+                json.dump(doc, f, indent=2)
+            os.replace(sweep_path + ".tmp", sweep_path)
+        return {tuple(row["label"].split(": ", 1)): row for row in doc["points"]}
+
+    for scene, modules, moving, twilight in SCENES:
+        tag = os.path.splitext(os.path.basename(scene))[0]
+        path_frames = json.load(open(scene)).get("frames", 1)
+        windows = [0]
+        if moving and path_frames > 2 * (WARMUP + FRAMES):
+            windows.append(path_frames - WARMUP - FRAMES)  # the end of the path
+        errors = [sweep(scene, f"{tag}_from_{w}" if w else tag, ref_path, modules, w) for w in windows]
+        costs = sweep(scene, f"{tag}_cost", desktop_path, modules)
+        for (m, name), row in costs.items():
             entry = measured[m][name]
-            entry["errors"].append({"scene": scene, "moving": moving, "twilight": twilight,
-                                    "error": round(row["error"]["rel_luminance_mean"], 5)})
+            error = max(rows[(m, name)]["error"]["rel_luminance_mean"] for rows in errors)
+            entry["errors"].append({"scene": scene, "moving": moving, "twilight": twilight, "error": round(error, 5)})
             entry["cost" if moving else "static"].append(module_cost(row, m))
-            # Only this module differs from the reference: the frame's error is the module's
-            # (tools/report charts it per module).
-            if m != "engine":
-                row["module_error"] = {m: {k: row["error"][k] for k in ("rel_luminance_mean", "rel_luminance_p95")}}
-        with open(sweep_path + ".tmp", "w") as f:
-            json.dump(sweep, f, indent=2)
-        os.replace(sweep_path + ".tmp", sweep_path)
 
     table = {
         "format": "cpurender-auto-table",
@@ -148,7 +167,9 @@ def main():
             "reference": DESCRIPTION,
             "error": "largest mean relative luminance error of the last frame over the scenes using the module",
             "errors": "the error per scene, with its kind (moving, twilight)",
-            "cost_ms": "largest amortised per-frame cost of the module's passes over the moving scenes",
+            "windows": "moving scenes: the error is the larger of the path's first and last frames measured",
+            "cost_ms": "largest amortised per-frame cost of the module's passes over the moving scenes, "
+                       "the other modules at the desktop profile's settings",
             "static_cost_ms": "the same over the still scenes",
         },
         "modules": {},
