@@ -58,6 +58,7 @@ FogStabilityCell evaluate_fog_stability(const FogStabilityCase& c, const FogStab
   FogProfileSettings profile;
   profile.reprojection = c.reprojection;
   profile.history_weight = c.history_weight;
+  profile.froxel_size_px = c.froxel_size_px;
   FogSceneSettings scene;
   scene.height_fog = true;
   scene.base_height = 1e4f;  // everything below the base: uniform density

@@ -24,6 +24,7 @@ struct FogStabilityCase {
   float speed = 0.0f;        // camera m/frame, sideways across the shaft
   bool reprojection = true;
   float history_weight = 6.0f / 7.0f;
+  int froxel_size_px = 8;
   int frames = 8;
 };
 

@@ -21,9 +21,9 @@ namespace cr {
 namespace {
 
 const char* const kDescription =
-    "Runs the froxel fog (the built-in profile: 8 px froxels, 64 slices over 64 m) for --frames frames of\n"
-    "a synthetic view: uniform fog of albedo 0.9 under a low sun, a tall wall casting a light shaft, the\n"
-    "sky behind, the camera moving sideways at a constant speed. Two grids:\n"
+    "Runs the froxel fog (the built-in profile: 8 px froxels or --froxel-size, 64 slices over 64 m) for\n"
+    "--frames frames of a synthetic view: uniform fog of albedo 0.9 under a low sun, a tall wall casting a\n"
+    "light shaft, the sky behind, the camera moving sideways at a constant speed. Two grids:\n"
     "  medium    extinction (1 / mean free path, log) x HG anisotropy g, still camera\n"
     "  temporal  camera speed (m/frame) x history weight (0: reprojection off), at --extinction and --g\n"
     "Per cell: mean / p95 relative luminance error of the last frame against the per-pixel ray-marched\n"
@@ -67,6 +67,7 @@ int fog_stability_command(const std::vector<std::string>& args, const PluginRegi
               "0,0.5,0.75,0.857143,0.95")
       .option("extinction", "PER_M", "extinction of the temporal grid", "0.05")
       .option("anisotropy", "G", "anisotropy of the temporal grid", "0.4")
+      .option("froxel-size", "PX", "froxel size in pixels", "8")
       .option("frames", "N", "frames per cell (the last is measured)", "8")
       .option("resolution", "WxH", "frame size", "160x96")
       .option("samples", "N", "reference segments per pixel", "128")
@@ -86,6 +87,7 @@ int fog_stability_command(const std::vector<std::string>& args, const PluginRegi
   base.extinction = float(p.get_double("extinction", 1e-30, 1e3));
   base.anisotropy = float(p.get_double("anisotropy", -0.999, 0.999));
   base.frames = p.get_int("frames", 1, 1000);
+  base.froxel_size_px = p.get_int("froxel-size", 1, 256);
   FogStabilityOptions o;
   std::tie(o.width, o.height) = parse_resolution(p.get("resolution"), "fog-stability");
   o.samples = p.get_int("samples", 2, 1 << 16);
@@ -94,7 +96,8 @@ int fog_stability_command(const std::vector<std::string>& args, const PluginRegi
   JobSystem jobs(threads_option(p));
 
   StabilityMap map;
-  map.method = "fog: HDRP-style froxels (built-in profile), " + std::to_string(base.frames) + " frames";
+  map.method = "fog: HDRP-style froxels (built-in profile, " + std::to_string(base.froxel_size_px) + " px), " +
+               std::to_string(base.frames) + " frames";
   map.ground_truth = "per-pixel ray-marched reference (" + std::to_string(o.samples) +
                      " segments/pixel; noise_mean is its difference from half as many)";
   map.command = "fog-stability";
