@@ -49,6 +49,6 @@ stage "ThreadSanitizer (job system, frame graph, determinism across thread count
 TSAN_OPTIONS=halt_on_error=1 build_and_test build-tsan Sanitize thread \
   "scene_assets test_core test_render test_raster test_fog test_atmosphere" -R "threading|determinism|bit-identical"
 
-stage "fuzzing: each libFuzzer target for 20 s from the seed corpus, fixed seed (docs/fuzzing.md)"
-CR_FUZZ_BUILD_JOBS=$jobs ./tests/fuzz/run_fuzz.sh --ci 20
+stage "fuzzing: each libFuzzer target for 10 s from the seed corpus, fixed seed (docs/fuzzing.md)"
+CR_FUZZ_BUILD_JOBS=$jobs ./tests/fuzz/run_fuzz.sh --ci 10
 stage "all stages passed"
