@@ -29,7 +29,7 @@ skip() {
   echo "slurm_cluster: SKIP: $*" >&2
   exit "$SKIP"
 }
-usage() { sed -n '2,18s/^# \{0,1\}//p' "$SELF" >&2; exit 2; }
+usage() { sed -n '2,16s/^# \{0,1\}//p' "$SELF" >&2; exit "${1:-2}"; }
 
 # ---------------------------------------------------------------- processes
 # alive PID: the process exists and is not a zombie.
@@ -108,9 +108,10 @@ terminate() {
 }
 
 # ---------------------------------------------------------------- helpers
-set_dir() {
+set_dir() { # DIR create | DIR exists EXIT_CODE_IF_MISSING
   [ -n "${1:-}" ] || usage
-  mkdir -p "$1" || die "cannot create $1"
+  if [ "${2:-}" = create ]; then mkdir -p "$1" || die "cannot create $1"
+  elif [ ! -d "$1" ]; then log "no such directory: $1 (nothing running)"; exit "$3"; fi
   DIR=$(cd "$1" && pwd -P) || die "cannot enter $1"
   CONF=$DIR/slurm.conf
   HOST=$(hostname -s 2>/dev/null || hostname)
@@ -242,6 +243,13 @@ do_start() {
   local ctld_port=${SLURM_CLUSTER_CTLD_PORT:-} slurmd_port=${SLURM_CLUSTER_SLURMD_PORT:-}
   [ -n "$ctld_port" ] || ctld_port=$(free_port 0) || skip "no free TCP port for slurmctld"
   [ -n "$slurmd_port" ] || slurmd_port=$(free_port "$ctld_port") || skip "no free TCP port for slurmd"
+  local used p
+  used=" $(listening_ports | tr '\n' ' ') "
+  for p in "$ctld_port" "$slurmd_port"; do
+    [[ "$p" =~ ^[0-9]+$ ]] || die "bad port '$p'"
+    case "$used" in *" $p "*) skip "TCP port $p is already in use" ;; esac
+  done
+  [ "$ctld_port" != "$slurmd_port" ] || die "slurmctld and slurmd ports must differ ($p)"
   write_conf "$ctld_port" "$slurmd_port"
   export SLURM_CONF=$CONF
 
@@ -271,7 +279,9 @@ do_start() {
         pid_of "$n" >/dev/null || start_failed "$n is not running (node state '${state:-unknown}')"
       done
     fi
-    [ $SECONDS -ge $end ] && start_failed "node $HOST not idle after ${START_TIMEOUT}s (state '${state:-no answer}'): $(timeout 5 scontrol show node "$HOST" 2>/dev/null | grep -o 'Reason=.*')"
+    if [ $SECONDS -ge $end ]; then
+      start_failed "node $HOST not idle after ${START_TIMEOUT}s (state '${state:-no answer}')$(timeout 5 scontrol show node "$HOST" 2>/dev/null | grep -o ' Reason=.*')"
+    fi
     sleep 0.5
   done
   log "cluster up in $DIR (node $HOST idle, slurmctld port $ctld_port, slurmd port $slurmd_port)"
@@ -321,7 +331,12 @@ do_watchdog() { # PARENT_PID PARENT_START: stop the cluster once the `run` proce
   local parent=$1 st=$2
   while [ "$(start_time "$parent" 2>/dev/null)" = "$st" ] && alive "$parent"; do sleep 1; done
   [ -e "$DIR/run/watchdog.done" ] && exit 0
-  log "run process $parent is gone; stopping the cluster"
+  log "run process $parent is gone; stopping its command and the cluster"
+  local cpid cst
+  if read -r cpid cst 2>/dev/null < "$DIR/run/cmd.pid" && [ "$(start_time "$cpid")" = "$cst" ]; then
+    terminate 5 "$cpid" $(descendants "$cpid")
+  fi
+  rm -f "$DIR/run/cmd.pid"
   do_stop
 }
 
@@ -346,6 +361,7 @@ do_run() {
       log "stopping command (pid $CMD_PID)"
       terminate 5 "$CMD_PID" $(descendants "$CMD_PID")
     fi
+    rm -f "$DIR/run/cmd.pid"
     do_stop
     touch "$DIR/run/watchdog.done"
     kill "$WATCHDOG" 2>/dev/null
@@ -359,25 +375,27 @@ do_run() {
   export SLURM_CONF=$CONF
   "$@" <&0 &          # background + wait: signals reach the traps at once
   CMD_PID=$!
+  echo "$CMD_PID $(start_time "$CMD_PID")" > "$DIR/run/cmd.pid"
   wait "$CMD_PID"
   rc=$?
   CMD_PID=""
+  rm -f "$DIR/run/cmd.pid"
   exit $rc
 }
 
 # ---------------------------------------------------------------- main
 cmd=${1:-}; shift || true
 case "$cmd" in
-  start) set_dir "${1:-}"; do_start ;;
-  stop) set_dir "${1:-}"; do_stop ;;
-  run) set_dir "${1:-}"; shift; do_run "$@" ;;
+  start) set_dir "${1:-}" create; do_start ;;
+  stop) set_dir "${1:-}" exists 0; do_stop ;;
+  run) set_dir "${1:-}" create; shift; do_run "$@" ;;
   status)
-    set_dir "${1:-}"
+    set_dir "${1:-}" exists 1
     for n in munged slurmctld slurmd; do
       p=$(pid_of "$n") || { echo "$n: not running"; exit 1; }
       echo "$n: $p"
     done ;;
-  _watchdog) set_dir "$1"; do_watchdog "$2" "$3" ;;
-  -h|--help|help) usage ;;
+  _watchdog) set_dir "$1" exists 0; do_watchdog "$2" "$3" ;;
+  -h|--help|help) usage 0 ;;
   *) usage ;;
 esac

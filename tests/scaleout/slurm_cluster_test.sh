@@ -42,6 +42,12 @@ if [ "${1:-}" = --inside ]; then
 fi
 
 passed=0 failed=0 skipped=0
+# Harness calls run in the background so that a signal to this script reaches them at once
+# (timeout puts them in a process group of their own); `run` then stops its cluster.
+CHILD=""
+forward() { [ -n "$CHILD" ] && kill -TERM "$CHILD" 2>/dev/null && wait "$CHILD"; exit "$1"; }
+trap 'forward 143' TERM; trap 'forward 130' INT; trap 'forward 129' HUP
+harness() { "$@" & CHILD=$!; wait "$CHILD"; local rc=$?; CHILD=""; return $rc; }
 pass() { echo "PASS: $*"; passed=$((passed + 1)); }
 fail() { echo "FAIL: $*"; failed=$((failed + 1)); }
 skipt() { echo "SKIP: $*"; skipped=$((skipped + 1)); }
@@ -65,7 +71,7 @@ fi
 
 # 2. Slurm job array on a cluster started and stopped by `run`.
 CLUSTER=$WORK/cluster
-timeout -k 20 150 "$HARNESS" run "$CLUSTER" -- "$HERE/slurm_cluster_test.sh" --inside "$CLUSTER"
+harness timeout -k 20 150 "$HARNESS" run "$CLUSTER" -- "$HERE/slurm_cluster_test.sh" --inside "$CLUSTER"
 rc=$?
 case $rc in
   0) pass "Slurm job array of 4 tasks" ;;
@@ -88,7 +94,7 @@ if [ $rc != 77 ]; then
   if [ -z "$left" ]; then pass "no daemon of the cluster left after run"; else fail "left running: $left"; fi
 
   # 4. Exit status propagation and restart in the same directory; stop is idempotent.
-  timeout -k 20 120 "$HARNESS" run "$CLUSTER" -- sh -c 'sinfo -h -o %T | grep -qx idle && exit 3'
+  harness timeout -k 20 120 "$HARNESS" run "$CLUSTER" -- sh -c 'sinfo -h -o %T | grep -qx idle && exit 3'
   rc2=$?
   if [ $rc2 = 3 ]; then pass "run restarts in the same DIR and propagates the exit status (3)"
   else fail "run propagated $rc2, expected 3"; fi
