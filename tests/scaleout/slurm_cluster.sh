@@ -357,6 +357,7 @@ do_run() {
   cleanup() {
     [ $CLEANED = 1 ] && return
     CLEANED=1
+    trap '' INT TERM HUP   # a second signal (timeout signals child and group) must not cut this short
     if [ -n "$CMD_PID" ] && alive "$CMD_PID"; then
       log "stopping command (pid $CMD_PID)"
       terminate 5 "$CMD_PID" $(descendants "$CMD_PID")

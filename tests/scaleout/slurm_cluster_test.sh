@@ -45,7 +45,7 @@ passed=0 failed=0 skipped=0
 # Harness calls run in the background so that a signal to this script reaches them at once
 # (timeout puts them in a process group of their own); `run` then stops its cluster.
 CHILD=""
-forward() { [ -n "$CHILD" ] && kill -TERM "$CHILD" 2>/dev/null && wait "$CHILD"; exit "$1"; }
+forward() { trap "" TERM INT HUP; [ -n "$CHILD" ] && kill -TERM "$CHILD" 2>/dev/null && wait "$CHILD"; exit "$1"; }
 trap 'forward 143' TERM; trap 'forward 130' INT; trap 'forward 129' HUP
 harness() { "$@" & CHILD=$!; wait "$CHILD"; local rc=$?; CHILD=""; return $rc; }
 pass() { echo "PASS: $*"; passed=$((passed + 1)); }
