@@ -1,5 +1,6 @@
 #include "atmosphere/atmosphere_plugin.h"
 
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 
@@ -125,6 +126,18 @@ void AtmospherePlugin::composite(FrameBuffers& buffers, int x0, int y0, int x1, 
 
 void AtmospherePlugin::composite_fragments(const FrameBuffers& buffers, std::span<EdgeFragment> fragments) {
   composite_sky_fragments(sky_, buffers.width, buffers.height, fragments);
+}
+
+int AtmospherePlugin::warmup_frames(double tolerance) const {
+  (void)tolerance;  // LUTs are rebuilt whole, not blended: no decay to wait for
+  if (settings_.full_schedule) return 0;  // rebuilt every frame: nothing carried
+  // Within one period plus the slices of a rebuild every LUT (and the
+  // environment) has been rebuilt from this stretch of the path, as in a
+  // render from the start; what remains is which frames the rebuilds started
+  // on (the invalidation thresholds bound what that changes).
+  int frames = settings_.environment_schedule.period + settings_.environment_schedule.slices;
+  for (const LutSchedule& s : settings_.schedule) frames = std::max(frames, s.period + s.slices);
+  return frames;
 }
 
 void AtmospherePlugin::report_frame(nlohmann::json& frame) {

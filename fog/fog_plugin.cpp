@@ -1,5 +1,8 @@
 #include "fog/fog_plugin.h"
 
+#include "fog/jitter_sequence.h"
+
+#include <cmath>
 #include <iostream>
 
 #include "engine/render/frame_graph.h"
@@ -135,6 +138,19 @@ void FogPlugin::composite(FrameBuffers& buffers, int x0, int y0, int x1, int y1)
 
 void FogPlugin::composite_fragments(const FrameBuffers&, std::span<EdgeFragment> fragments) {
   fog_->composite_fragments(fragments);
+}
+
+int FogPlugin::warmup_frames(double tolerance) const {
+  const FogProfileSettings& s = fog_->profile();
+  int frames = 0;
+  // The history keeps w^n of what it held n frames ago (less where it is
+  // clamped or rejected), so a cold history fades below `tolerance` after
+  // log(tolerance) / log(w) frames.
+  if (s.reprojection && s.history_weight > 0.0f && tolerance > 0.0 && tolerance < 1.0)
+    frames = int(std::ceil(std::log(tolerance) / std::log(double(s.history_weight))));
+  // Then one whole jitter sequence, which a still view averages.
+  if (s.jitter) frames += kJitterFrames;
+  return frames;
 }
 
 void FogPlugin::report_frame(nlohmann::json& frame) {

@@ -29,6 +29,7 @@ class FogPlugin : public Plugin {
   void composite(FrameBuffers& buffers, int x0, int y0, int x1, int y1) override;
   void composite_fragments(const FrameBuffers& buffers, std::span<EdgeFragment> fragments) override;
   void report_frame(nlohmann::json& frame) override;
+  int warmup_frames(double tolerance) const override;
   ModulePlan plan(const PlanContext& ctx) const override;  // *_plan.cpp
 
   // The fog state (for commands and tests); null before configure().

@@ -36,6 +36,8 @@ std::vector<CliCommand> all_commands(const PluginRegistry& registry, const Comma
        [](const auto& a) { return compare_command(a); }},
       {"golden", "golden-image check of every scene and profile (1 vs N threads bit-exact); --update",
        [&](const auto& a) { return golden_command(a, registry); }},
+      {"merge", "join the folders of a sharded sweep, golden check or render (--shard I/N) into one",
+       [](const auto& a) { return merge_command(a); }},
   };
   for (const CliCommand& c : tools.commands()) cmds.push_back(c);
   return cmds;

@@ -93,5 +93,6 @@ int bench_command(const std::vector<std::string>& args, const PluginRegistry& re
 int sweep_command(const std::vector<std::string>& args, const PluginRegistry& registry,
                   const ModuleTruthRegistry& truths);
 int antialiasing_command(const std::vector<std::string>& args, const PluginRegistry& registry);
+int merge_command(const std::vector<std::string>& args);
 
 }  // namespace cr

@@ -7,12 +7,14 @@
 #include <optional>
 
 #include "engine/cli/arg_parser.h"
+#include "engine/cli/cache_key.h"
 #include "engine/cli/cli_common.h"
 #include "engine/cli/golden_cases.h"
 #include "engine/cli/golden_render.h"
 #include "engine/cli/golden_report.h"
 #include "engine/cli/golden_tolerances.h"
 #include "engine/cli/paths.h"
+#include "engine/cli/shard.h"
 #include "engine/core/error.h"
 #include "engine/output/atomic_file.h"
 #include "engine/output/png_io.h"
@@ -35,6 +37,9 @@ constexpr const char* kDescription =
     "between thread counts; otherwise it adds missing goldens and rewrites those that fail their\n"
     "tolerances (with --exact: every golden whose pixels changed), printing the metrics against the\n"
     "old golden. Goldens no case produces are listed as stale (deleted with --update --prune).\n"
+    "A check records each case in REPORT/cases/ as it finishes; --resume keeps those of an earlier run\n"
+    "of the same check (same build, cases and inputs). --shard I/N checks only the cases k with\n"
+    "k mod N = I and writes REPORT/shard.json; `cpurender merge` joins the shards' reports.\n"
     "Exit status: 0 pass, 1 a case failed, 2 usage error or a case could not be rendered.";
 
 ImageRGBf to_display_rgb(const Image8& image) {
@@ -113,9 +118,15 @@ int golden_command(const std::vector<std::string>& args, const PluginRegistry& r
       .option("profiles", "DIR", "profile files (default: the shipped profiles beside the executable)")
       .flag("update", "add missing goldens and rewrite those that fail their tolerances")
       .flag("exact", "with --update: rewrite every golden whose pixels changed")
-      .flag("prune", "with --update: delete stale goldens");
+      .flag("prune", "with --update: delete stale goldens")
+      .flag("resume", "check: keep the cases an earlier run of the same check finished (REPORT/cases/)");
+  add_shard_option(p);
   if (!p.parse(args, 0, 0)) return 0;
   const bool update = p.has("update");
+  const ShardOption shard = shard_option(p, "golden");
+  if (update && (shard.given || p.has("resume")))
+    throw UsageError("golden: --update renders every case in one run (it writes no golden unless all render and are "
+                     "deterministic); --shard and --resume are for checks");
   if (!update && (p.has("exact") || p.has("prune"))) throw UsageError("golden: --exact and --prune need --update");
   const auto [width, height] = parse_resolution(p.get("resolution"), "golden");
   const unsigned threads = p.has("threads") ? unsigned(p.get_int("threads", 2, 1024))
@@ -147,28 +158,37 @@ int golden_command(const std::vector<std::string>& args, const PluginRegistry& r
     }
   }
 
-  // Render everything before looking at or writing any golden.
-  std::vector<RenderedCase> rendered;
+  // What the check is (its cases and every file they read), so a resumed
+  // check or a merged shard never mixes runs of other inputs.
+  nlohmann::json definition = {{"golden_dir", dir}, {"resolution", {width, height}}};
+  {
+    std::string inputs = read_file_bytes(report.tolerances);
+    for (const GoldenCase& c : cases)
+      inputs += c.name() + "|" + read_file_bytes(c.scene_path) + "|" + read_file_bytes(c.profile_path);
+    definition["inputs"] = cache_name(inputs);
+  }
+  const std::string cases_dir = report_dir + "/cases";
+  ShardManifest manifest;
+  manifest.command = "golden";
+  manifest.shard = shard.shard;
+  manifest.build = build_hash();
+  manifest.host = host_name();
+  manifest.definition = definition;
   for (size_t i = 0; i < cases.size(); ++i) {
-    RenderedCase r{cases[i], std::nullopt, ""};
-    try {
-      if (!cases[i].error.empty()) throw Error(cases[i].error);
-      r.render = render_golden_case(cases[i], registry, width, height, threads);
-      std::fprintf(stderr, "golden: [%zu/%zu] %s: frames 0..%d, %.0f ms at 1 thread, %.0f ms at %u\n", i + 1,
-                   cases.size(), cases[i].name().c_str(), cases[i].last_frame, r.render->ms_one_thread,
-                   r.render->ms_threads, threads);
-    } catch (const std::exception& e) {
-      r.error = e.what();
-      std::fprintf(stderr, "golden: [%zu/%zu] %s: ERROR %s\n", i + 1, cases.size(), cases[i].name().c_str(),
-                   e.what());
-    }
-    rendered.push_back(std::move(r));
+    manifest.items.push_back(cases[i].name());
+    if (shard.shard.owns(i)) manifest.owned.push_back(cases[i].name());
+  }
+  if (shard.given) {
+    fs::create_directories(report_dir);
+    write_shard_manifest(report_dir, manifest);
   }
 
-  fs::create_directories(report_dir);
   bool any_error = false, any_nondeterministic = false, any_fail = false;
   std::vector<std::pair<std::string, const Image8*>> to_write;  // golden path, image
-  for (const RenderedCase& rc : rendered) {
+  // The rows of a rendered case: compared with its goldens; in update mode,
+  // what would be rewritten is queued in to_write (images owned by `rc`).
+  auto case_rows = [&](const RenderedCase& rc) {
+    std::vector<GoldenRow> rows;
     const GoldenCase& c = rc.golden_case;
     const GoldenTolerance tolerance = tolerances.for_profile(c.profile);
     for (size_t k = 0; k < c.kept_frames.size(); ++k) {
@@ -185,8 +205,7 @@ int golden_command(const std::vector<std::string>& args, const PluginRegistry& r
       if (!rc.render) {
         row.status = GoldenStatus::Error;
         row.failures.push_back(rc.error);
-        any_error = true;
-        report.rows.push_back(std::move(row));
+        rows.push_back(std::move(row));
         continue;
       }
       const GoldenRender& render = *rc.render;
@@ -195,10 +214,8 @@ int golden_command(const std::vector<std::string>& args, const PluginRegistry& r
       row.ms_threads = render.ms_threads;
       row.deterministic = render.deterministic;
       row.determinism_detail = render.determinism_detail;
-      if (!render.deterministic) {
-        any_nondeterministic = true;
+      if (!render.deterministic)
         row.failures.push_back("1-thread and " + std::to_string(threads) + "-thread renders differ");
-      }
 
       const GoldenComparison cmp = compare_with_golden(row.golden, image, row.thresholds);
       if (cmp.result) row.metrics = cmp.result->metrics;
@@ -209,7 +226,6 @@ int golden_command(const std::vector<std::string>& args, const PluginRegistry& r
       if (!update) {
         const bool pass = within && render.deterministic;
         row.status = pass ? GoldenStatus::Pass : GoldenStatus::Fail;
-        any_fail |= !pass;
         if (!pass) write_review_images(row, report_dir, stem_of(name), cmp.result, image, true);
       } else {
         const bool identical = cmp.result && cmp.result->metrics.max_abs == 0.0;
@@ -223,8 +239,72 @@ int golden_command(const std::vector<std::string>& args, const PluginRegistry& r
         // In update mode the compare failures are the reasons for a rewrite.
         if (!cmp.golden_exists) row.failures.clear();
       }
-      report.rows.push_back(std::move(row));
+      rows.push_back(std::move(row));
     }
+    return rows;
+  };
+  // A check's finished case: REPORT/cases/<case>.json (what --resume keeps).
+  auto case_file = [&](const GoldenCase& c) { return cases_dir + "/" + c.name() + ".json"; };
+  auto kept_rows = [&](const GoldenCase& c) -> std::optional<std::vector<GoldenRow>> {
+    const std::string file = case_file(c);
+    if (!p.has("resume") || !fs::exists(file)) return std::nullopt;
+    const nlohmann::json j = nlohmann::json::parse(read_file_bytes(file), nullptr, false);
+    if (j.is_discarded() || !j.is_object() || j.value("definition", nlohmann::json()) != definition ||
+        j.value("build", "") != build_hash())
+      return std::nullopt;  // another check's or another build's: render again
+    std::vector<GoldenRow> rows;
+    for (const nlohmann::json& row : j.value("rows", nlohmann::json::array()))
+      rows.push_back(golden_row_from_json(row, file));
+    return rows;
+  };
+
+  fs::create_directories(report_dir);
+  // A check compares and records each case as it renders; an update renders
+  // everything before looking at or writing any golden.
+  std::vector<RenderedCase> rendered;
+  size_t kept_cases = 0;
+  for (size_t i = 0; i < cases.size(); ++i) {
+    if (!shard.shard.owns(i)) continue;
+    if (std::optional<std::vector<GoldenRow>> rows = kept_rows(cases[i])) {
+      report.rows.insert(report.rows.end(), rows->begin(), rows->end());
+      manifest.done.push_back(cases[i].name());
+      ++kept_cases;
+      continue;
+    }
+    RenderedCase r{cases[i], std::nullopt, ""};
+    try {
+      if (!cases[i].error.empty()) throw Error(cases[i].error);
+      r.render = render_golden_case(cases[i], registry, width, height, threads);
+      std::fprintf(stderr, "golden: [%zu/%zu] %s: frames 0..%d, %.0f ms at 1 thread, %.0f ms at %u\n", i + 1,
+                   cases.size(), cases[i].name().c_str(), cases[i].last_frame, r.render->ms_one_thread,
+                   r.render->ms_threads, threads);
+    } catch (const std::exception& e) {
+      r.error = e.what();
+      std::fprintf(stderr, "golden: [%zu/%zu] %s: ERROR %s\n", i + 1, cases.size(), cases[i].name().c_str(),
+                   e.what());
+    }
+    if (update) {
+      rendered.push_back(std::move(r));
+      continue;
+    }
+    const std::vector<GoldenRow> rows = case_rows(r);
+    nlohmann::json record = {{"definition", definition}, {"build", build_hash()}, {"rows", nlohmann::json::array()}};
+    for (const GoldenRow& row : rows) record["rows"].push_back(golden_row_json(row));
+    fs::create_directories(cases_dir);
+    write_file_atomic(case_file(cases[i]), record.dump(2) + "\n");
+    report.rows.insert(report.rows.end(), rows.begin(), rows.end());
+    manifest.done.push_back(cases[i].name());
+    if (shard.given) write_shard_manifest(report_dir, manifest);
+  }
+  for (const RenderedCase& rc : rendered) {
+    const std::vector<GoldenRow> rows = case_rows(rc);
+    report.rows.insert(report.rows.end(), rows.begin(), rows.end());
+  }
+  if (kept_cases > 0) std::fprintf(stderr, "golden: %zu case(s) kept from the earlier run (--resume)\n", kept_cases);
+  for (const GoldenRow& row : report.rows) {
+    any_error |= row.status == GoldenStatus::Error;
+    any_nondeterministic |= row.status != GoldenStatus::Error && !row.deterministic;
+    any_fail |= row.status == GoldenStatus::Fail;
   }
 
   report.stale = find_stale_goldens(dir, all_cases);
@@ -250,6 +330,10 @@ int golden_command(const std::vector<std::string>& args, const PluginRegistry& r
   const std::string table = format_golden_report(report);
   write_file_atomic(report_dir + "/golden_report.txt", table);
   write_file_atomic(report_dir + "/golden_report.json", golden_report_json(report).dump(2) + "\n");
+  if (shard.given) {
+    manifest.complete = manifest.done.size() == manifest.owned.size();
+    write_shard_manifest(report_dir, manifest);
+  }
   std::cout << table << "report: " << report_dir << "/golden_report.json, " << report_dir
             << "/golden_report.txt\n";
   return report.exit_code;

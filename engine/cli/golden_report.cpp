@@ -2,6 +2,9 @@
 
 #include <cstdio>
 #include <map>
+#include <stdexcept>
+
+#include "engine/core/error.h"
 
 namespace cr {
 
@@ -41,30 +44,96 @@ std::string thresholds_line(const CompareThresholds& t) {
 
 }  // namespace
 
+nlohmann::json golden_row_json(const GoldenRow& r) {
+  const nlohmann::json compared = compare_json(r);
+  nlohmann::json row = {
+      {"case", r.case_name},
+      {"scene", r.scene},
+      {"profile", r.profile},
+      {"frame", r.frame},
+      {"golden", r.golden},
+      {"status", to_string(r.status)},
+      {"failures", r.failures},
+      {"tolerance_entry", r.tolerance_entry},
+      {"thresholds", compared["thresholds"]},
+      {"metrics", r.metrics ? compared["metrics"] : nlohmann::json(nullptr)},
+      {"deterministic", r.deterministic},
+      {"render_ms", {{"threads_1", r.ms_one_thread}, {"threads_" + std::to_string(r.threads), r.ms_threads}}},
+  };
+  if (!r.determinism_detail.empty()) row["determinism_detail"] = r.determinism_detail;
+  if (!r.diff_image.empty()) row["diff_image"] = r.diff_image;
+  if (!r.flip_image.empty()) row["flip_image"] = r.flip_image;
+  if (!r.new_image.empty()) row["new_image"] = r.new_image;
+  return row;
+}
+
+GoldenRow golden_row_from_json(const nlohmann::json& j, const std::string& file) {
+  GoldenRow r;
+  try {
+    r.case_name = j.at("case").get<std::string>();
+    r.scene = j.at("scene").get<std::string>();
+    r.profile = j.at("profile").get<std::string>();
+    r.frame = j.at("frame").get<int>();
+    r.golden = j.at("golden").get<std::string>();
+    const std::string status = j.at("status").get<std::string>();
+    bool known = false;
+    for (GoldenStatus s : {GoldenStatus::Pass, GoldenStatus::Fail, GoldenStatus::Error, GoldenStatus::Unchanged,
+                           GoldenStatus::Kept, GoldenStatus::Updated, GoldenStatus::Added})
+      if (status == to_string(s)) {
+        r.status = s;
+        known = true;
+      }
+    if (!known) throw InputError(file, "golden row: unknown status \"" + status + "\"");
+    r.failures = j.at("failures").get<std::vector<std::string>>();
+    r.tolerance_entry = j.at("tolerance_entry").get<std::string>();
+    r.thresholds = compare_thresholds_from_json(j.at("thresholds"));
+    if (!j.at("metrics").is_null()) r.metrics = compare_metrics_from_json(j.at("metrics"));
+    r.deterministic = j.at("deterministic").get<bool>();
+    for (const auto& [key, ms] : j.at("render_ms").items()) {
+      if (key == "threads_1") r.ms_one_thread = ms.get<double>();
+      else if (key.rfind("threads_", 0) == 0) {
+        r.threads = unsigned(std::stoul(key.substr(8)));
+        r.ms_threads = ms.get<double>();
+      }
+    }
+    r.determinism_detail = j.value("determinism_detail", "");
+    r.diff_image = j.value("diff_image", "");
+    r.flip_image = j.value("flip_image", "");
+    r.new_image = j.value("new_image", "");
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(file, std::string("malformed golden row: ") + e.what());
+  } catch (const std::logic_error& e) {  // stoul
+    throw InputError(file, std::string("malformed golden row: ") + e.what());
+  }
+  return r;
+}
+
+GoldenReport golden_report_from_json(const nlohmann::json& j, const std::string& file) {
+  GoldenReport report;
+  try {
+    report.mode = j.at("mode").get<std::string>();
+    report.golden_dir = j.at("golden_dir").get<std::string>();
+    report.tolerances = j.at("tolerances").get<std::string>();
+    report.report_dir = j.at("report_dir").get<std::string>();
+    report.width = j.at("resolution").at(0).get<int>();
+    report.height = j.at("resolution").at(1).get<int>();
+    report.threads = j.at("threads").at(1).get<unsigned>();
+    for (const nlohmann::json& row : j.at("rows")) report.rows.push_back(golden_row_from_json(row, file));
+    report.stale = j.at("stale_goldens").get<std::vector<std::string>>();
+    report.pruned = j.at("pruned").get<bool>();
+    report.wrote_goldens = j.at("wrote_goldens").get<bool>();
+    report.note = j.at("note").get<std::string>();
+    report.wall_s = j.at("wall_s").get<double>();
+    report.exit_code = j.at("exit_code").get<int>();
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(file, std::string("malformed golden report: ") + e.what());
+  }
+  return report;
+}
+
 nlohmann::json golden_report_json(const GoldenReport& report) {
   nlohmann::json rows = nlohmann::json::array();
-  for (const GoldenRow& r : report.rows) {
-    const nlohmann::json compared = compare_json(r);
-    nlohmann::json row = {
-        {"case", r.case_name},
-        {"scene", r.scene},
-        {"profile", r.profile},
-        {"frame", r.frame},
-        {"golden", r.golden},
-        {"status", to_string(r.status)},
-        {"failures", r.failures},
-        {"tolerance_entry", r.tolerance_entry},
-        {"thresholds", compared["thresholds"]},
-        {"metrics", r.metrics ? compared["metrics"] : nlohmann::json(nullptr)},
-        {"deterministic", r.deterministic},
-        {"render_ms", {{"threads_1", r.ms_one_thread}, {"threads_" + std::to_string(r.threads), r.ms_threads}}},
-    };
-    if (!r.determinism_detail.empty()) row["determinism_detail"] = r.determinism_detail;
-    if (!r.diff_image.empty()) row["diff_image"] = r.diff_image;
-    if (!r.flip_image.empty()) row["flip_image"] = r.flip_image;
-    if (!r.new_image.empty()) row["new_image"] = r.new_image;
-    rows.push_back(std::move(row));
-  }
+  for (const GoldenRow& r : report.rows) rows.push_back(golden_row_json(r));
   std::map<std::string, int> counts;
   for (const GoldenRow& r : report.rows) ++counts[to_string(r.status)];
   return {

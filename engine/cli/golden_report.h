@@ -58,6 +58,11 @@ struct GoldenReport {
 };
 
 nlohmann::json golden_report_json(const GoldenReport& report);
+nlohmann::json golden_row_json(const GoldenRow& row);
+// The inverses (what `golden --resume` and `merge` read back); InputError
+// naming `file` when a field is missing or mistyped.
+GoldenRow golden_row_from_json(const nlohmann::json& row, const std::string& file);
+GoldenReport golden_report_from_json(const nlohmann::json& report, const std::string& file);
 std::string format_golden_report(const GoldenReport& report);
 
 }  // namespace cr

@@ -14,6 +14,8 @@
 #include "engine/cli/cache_key.h"
 #include "engine/cli/cli_common.h"
 #include "engine/cli/paths.h"
+#include "engine/cli/shard.h"
+#include "engine/cli/sweep_csv.h"
 #include "engine/cli/sweep_points.h"
 #include "engine/cli/sweep_truth.h"
 #include "engine/core/error.h"
@@ -48,7 +50,9 @@ const char* const kDescription =
     "Writes OUT/sweep.json and OUT/sweep.csv after every point (atomically), and OUT/profiles/ the\n"
     "profile of each point. --resume keeps the points of an earlier run of the same sweep (same scene,\n"
     "base, reference, frames and resolution) and renders the rest: a killed sweep loses only the point\n"
-    "it was rendering.";
+    "it was rendering.\n"
+    "--shard I/N renders only the points k with k mod N = I (a Slurm array task or a GNU parallel job\n"
+    "each), writing OUT/shard.json; `cpurender merge` joins the shards' folders into one sweep.";
 
 struct PointResult {
   int frames = 0;  // measured
@@ -115,60 +119,6 @@ std::string format_eta(double seconds) {
   return buf;
 }
 
-std::string csv_field(const std::string& s) {
-  if (s.find_first_of(",\"\n") == std::string::npos) return s;
-  std::string out = "\"";
-  for (char c : s) out += c == '"' ? std::string("\"\"") : std::string(1, c);
-  return out + "\"";
-}
-
-std::string sweep_csv(const nlohmann::json& doc) {
-  std::vector<std::string> keys;
-  for (const nlohmann::json& a : doc["axes"]) keys.push_back(a["key"].get<std::string>());
-  std::set<std::string> passes;
-  for (const nlohmann::json& p : doc["points"])
-    for (const auto& [name, v] : p["passes"].items()) passes.insert(name);
-  std::string out = "point,";
-  for (const std::string& k : keys) out += csv_field(k) + ",";
-  out += "threads,frame_ms_p50,frame_ms_p95,frame_ms_p99,rel_luminance_mean,rel_luminance_p95,flip_mean";
-  out += truth_csv_header(doc["truth"]);
-  for (const std::string& name : passes)
-    for (const char* stat : {" p50", " p95", " mean"}) {
-      out += ',';
-      out += csv_field(name + stat);
-    }
-  out += "\n";
-  for (const nlohmann::json& p : doc["points"]) {
-    out += csv_field(p["point"].get<std::string>()) + ",";
-    for (const std::string& k : keys) {
-      const nlohmann::json& v = p["settings"].value(k, nlohmann::json());
-      out += (v.is_null() ? std::string() : csv_field(v.is_string() ? v.get<std::string>() : v.dump())) + ",";
-    }
-    char buf[160];
-    std::snprintf(buf, sizeof buf, "%u,%.4f,%.4f,%.4f", p["threads"].get<unsigned>(), p["frame_ms_p50"].get<double>(),
-                  p["frame_ms_p95"].get<double>(), p.value("frame_ms_p99", p["frame_ms_p95"]).get<double>());
-    out += buf;
-    for (const char* e : {"rel_luminance_mean", "rel_luminance_p95", "flip_mean"}) {
-      const nlohmann::json& v = p["error"][e];
-      if (v.is_number()) std::snprintf(buf, sizeof buf, ",%.6f", v.get<double>());
-      out += v.is_number() ? std::string(buf) : std::string(",");
-    }
-    out += truth_csv_cells(doc["truth"], p);
-    for (const std::string& name : passes) {
-      if (!p["passes"].contains(name)) {
-        out += ",,,";
-        continue;
-      }
-      const nlohmann::json& pass = p["passes"][name];
-      std::snprintf(buf, sizeof buf, ",%.4f,%.4f,%.4f", pass["p50"].get<double>(), pass["p95"].get<double>(),
-                    pass.value("mean", pass["p50"]).get<double>());
-      out += buf;
-    }
-    out += "\n";
-  }
-  return out;
-}
-
 }  // namespace
 
 int sweep_command(const std::vector<std::string>& args, const PluginRegistry& registry,
@@ -190,7 +140,9 @@ int sweep_command(const std::vector<std::string>& args, const PluginRegistry& re
       .option("truth-setting", "MODULE.KEY=VALUE", "a ground truth's reference setting (repeat for more)")
       .option("out", "DIR", "output directory", "out/sweep")
       .flag("resume", "keep the finished points of an earlier run of the same sweep");
+  add_shard_option(p);
   if (!p.parse(args, 0, 1)) return 0;
+  const ShardOption shard = shard_option(p, "sweep");
   const std::string scene = p.positional().empty() ? default_scene_path() : p.positional()[0];
   std::vector<SweepAxis> axes;
   std::vector<SweepPoint> listed;
@@ -237,6 +189,29 @@ int sweep_command(const std::vector<std::string>& args, const PluginRegistry& re
   for (const SweepAxis& a : axes) doc["axes"].push_back({{"key", a.key}, {"values", a.values}});
   const std::string json_path = out + "/sweep.json";
   std::set<std::string> done;
+  // A shard's manifest: the sweep's definition (the document without its
+  // points, and the scene's bytes) and its points, so `merge` can tell
+  // whether shards belong together.
+  ShardManifest manifest;
+  if (shard.given) {
+    manifest.command = "sweep";
+    manifest.shard = shard.shard;
+    manifest.build = build_hash();
+    manifest.host = host_name();
+    manifest.definition = doc;
+    manifest.definition.erase("points");
+    manifest.definition["scene_bytes"] = cache_name(read_file_bytes(scene));
+    for (size_t i = 0; i < points.size(); ++i) {
+      manifest.items.push_back(points[i].id());
+      if (shard.shard.owns(i)) manifest.owned.push_back(points[i].id());
+    }
+  }
+  if (p.has("resume") && std::filesystem::exists(out + "/" + kShardManifestName)) {
+    const ShardManifest old = read_shard_manifest(out);
+    if (!shard.given || old.shard.index != shard.shard.index || old.shard.count != shard.shard.count)
+      throw InputError(out + "/" + kShardManifestName, "--resume: this folder holds shard " + old.shard.label() +
+                                                           ", not " + (shard.given ? shard.shard.label() : "the whole sweep"));
+  }
   if (p.has("resume") && std::filesystem::exists(json_path)) {
     const nlohmann::json old = nlohmann::json::parse(read_file_bytes(json_path), nullptr, false);
     if (old.is_discarded() || !old.is_object()) throw InputError(json_path, "not a sweep file (JSON object)");
@@ -286,13 +261,22 @@ int sweep_command(const std::vector<std::string>& args, const PluginRegistry& re
     }
   }
 
+  auto write_manifest = [&] {
+    if (!shard.given) return;
+    manifest.done.clear();
+    for (const std::string& id : manifest.owned)
+      if (done.count(id)) manifest.done.push_back(id);
+    manifest.complete = manifest.done.size() == manifest.owned.size();
+    write_shard_manifest(out, manifest);
+  };
+  write_manifest();
   const auto start = std::chrono::steady_clock::now();
   int rendered = 0;
-  const size_t todo = points.size() - std::count_if(points.begin(), points.end(),
-                                                    [&](const SweepPoint& q) { return done.count(q.id()) > 0; });
+  size_t todo = 0;
+  for (size_t i = 0; i < points.size(); ++i) todo += shard.shard.owns(i) && !done.count(points[i].id());
   for (size_t i = 0; i < points.size(); ++i) {
     const SweepPoint& point = points[i];
-    if (done.count(point.id())) continue;
+    if (done.count(point.id()) || !shard.shard.owns(i)) continue;
     const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     std::fprintf(stderr, "\rsweep: point %zu/%zu  %s  elapsed %s  ETA %s        ", i + 1, points.size(),
                  point.id().c_str(), format_eta(elapsed).c_str(),
@@ -320,8 +304,8 @@ int sweep_command(const std::vector<std::string>& args, const PluginRegistry& re
     PointResult r = render_point(scene, planned ? point.profile : profile_path, registry, w, h, t, first, warmup,
                                  frames, plan_request);
     if (planned) write_file_atomic(profile_path, r.plan->profile.dump(2) + "\n");  // what the plan rendered
-    nlohmann::json row = {{"point", point.id()}, {"settings", nlohmann::json::object()}, {"threads", t},
-                          {"profile", profile_path}};
+    nlohmann::json row = {{"point", point.id()}, {"index", i}, {"settings", nlohmann::json::object()},
+                          {"threads", t}, {"profile", profile_path}};
     if (!point.label.empty()) row["label"] = point.label;
     if (r.plan) row["plan"] = r.plan->to_json();
     for (const auto& [key, value] : point.settings) row["settings"][key] = value;
@@ -353,13 +337,15 @@ int sweep_command(const std::vector<std::string>& args, const PluginRegistry& re
       row["module_error"] = measure_truths(truths, request);
     }
     doc["points"].push_back(row);
+    done.insert(point.id());
     ++rendered;
     write_file_atomic(json_path, doc.dump(2) + "\n");
     write_file_atomic(out + "/sweep.csv", sweep_csv(doc));
+    write_manifest();
   }
   const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::fprintf(stderr, "\rsweep: %d point%s rendered, %zu kept, %s%40s\n", rendered, rendered == 1 ? "" : "s",
-               done.size(), format_eta(total).c_str(), "");
+               done.size() - size_t(rendered), format_eta(total).c_str(), "");
   write_file_atomic(json_path, doc.dump(2) + "\n");
   write_file_atomic(out + "/sweep.csv", sweep_csv(doc));
   std::printf("wrote %s and %s/sweep.csv (%zu points)\n", json_path.c_str(), out.c_str(), doc["points"].size());

@@ -243,6 +243,46 @@ nlohmann::json compare_result_to_json(const CompareResult& result,
   };
 }
 
+namespace {
+
+// json_number's inverse.
+double number_from_json(const nlohmann::json& v) {
+  if (v.is_string()) {
+    const std::string s = v.get<std::string>();
+    if (s == "inf") return std::numeric_limits<double>::infinity();
+    if (s == "-inf") return -std::numeric_limits<double>::infinity();
+    if (s == "nan") return std::numeric_limits<double>::quiet_NaN();
+  }
+  return v.get<double>();
+}
+
+}  // namespace
+
+CompareMetrics compare_metrics_from_json(const nlohmann::json& j) {
+  CompareMetrics m;
+  m.max_abs = number_from_json(j.at("max_abs"));
+  for (int c = 0; c < 3; ++c) m.max_abs_channel[size_t(c)] = number_from_json(j.at("max_abs_rgb").at(size_t(c)));
+  m.rmse = number_from_json(j.at("rmse"));
+  m.psnr_db = number_from_json(j.at("psnr_db"));
+  m.pixels_over = j.at("pixels_over_threshold").get<size_t>();
+  m.fraction_over = j.at("fraction_over_threshold").get<double>();
+  m.flip_mean = j.at("flip_mean").get<double>();
+  m.rel_luminance_mean = number_from_json(j.at("rel_luminance_mean"));
+  m.rel_luminance_p95 = number_from_json(j.at("rel_luminance_p95"));
+  m.flip_method = j.at("flip_method").get<std::string>();
+  return m;
+}
+
+CompareThresholds compare_thresholds_from_json(const nlohmann::json& j) {
+  CompareThresholds t;
+  t.max_abs = number_from_json(j.at("max_abs"));
+  t.rmse = number_from_json(j.at("rmse"));
+  t.pixel_threshold = number_from_json(j.at("pixel_threshold"));
+  t.max_fraction = number_from_json(j.at("max_fraction"));
+  t.flip_mean = number_from_json(j.at("flip_mean"));
+  return t;
+}
+
 std::string format_psnr(double psnr_db) { return number(psnr_db); }
 
 std::string format_compare_result(const CompareResult& result, const CompareThresholds& thresholds) {

@@ -85,6 +85,11 @@ float tonemap_aces(float linear);
 
 nlohmann::json compare_result_to_json(const CompareResult& result,
                                       const CompareThresholds& thresholds);
+// The inverses for its "metrics" (width, height and encoding are not in it)
+// and "thresholds" objects; nlohmann::json::exception on a missing or
+// mistyped field.
+CompareMetrics compare_metrics_from_json(const nlohmann::json& metrics);
+CompareThresholds compare_thresholds_from_json(const nlohmann::json& thresholds);
 // A readable table: each metric, its threshold and whether it passed.
 std::string format_compare_result(const CompareResult& result, const CompareThresholds& thresholds);
 // PSNR as text: "inf" for identical images.

@@ -72,28 +72,6 @@ nlohmann::json distribution(const std::vector<double>& samples) {
   };
 }
 
-// Per-pass samples in order of first appearance (frames may run different
-// pass sets, e.g. a LUT updated every few frames).
-std::vector<std::pair<std::string, std::vector<double>>> pass_samples(const RunReport& report) {
-  std::vector<std::pair<std::string, std::vector<double>>> passes;
-  std::map<std::string, size_t> index;
-  for (const FrameTiming& frame : report.frames) {
-    for (const PassTiming& pass : frame.passes) {
-      auto [it, inserted] = index.emplace(pass.name, passes.size());
-      if (inserted) passes.emplace_back(pass.name, std::vector<double>{});
-      passes[it->second].second.push_back(pass.ms());
-    }
-  }
-  return passes;
-}
-
-size_t frames_over_budget(const RunReport& report) {
-  if (report.frame_budget_ms <= 0.0) return 0;
-  return static_cast<size_t>(std::count_if(
-      report.frames.begin(), report.frames.end(),
-      [&](const FrameTiming& f) { return f.frame_ms > report.frame_budget_ms; }));
-}
-
 nlohmann::json frame_to_json(const FrameTiming& frame, const RunReport& report) {
   nlohmann::json passes = nlohmann::json::array();
   for (const PassTiming& pass : frame.passes) {
@@ -122,46 +100,6 @@ nlohmann::json frame_to_json(const FrameTiming& frame, const RunReport& report) 
   };
 }
 
-nlohmann::json summary_to_json(const RunReport& report) {
-  std::vector<double> frame_ms;
-  double busy_ms = 0.0, available_ms = 0.0;
-  size_t jobs = 0;
-  for (const FrameTiming& frame : report.frames) {
-    frame_ms.push_back(frame.frame_ms);
-    const JobStats stats = job_stats(frame, report.threads);
-    jobs += stats.count;
-    busy_ms += stats.busy_total_ms();
-    available_ms += frame.frame_ms * std::max(1u, report.threads);
-  }
-  const double frame_count = static_cast<double>(report.frames.size());
-  nlohmann::json passes = nlohmann::json::array();
-  for (const auto& [name, samples] : pass_samples(report)) {
-    const double sum = std::accumulate(samples.begin(), samples.end(), 0.0);
-    passes.push_back({{"name", name},
-                      {"frames_run", samples.size()},
-                      {"p50", percentile_nearest_rank(samples, 50)},
-                      {"p95", percentile_nearest_rank(samples, 95)},
-                      {"max", *std::max_element(samples.begin(), samples.end())},
-                      {"mean_when_run", sum / static_cast<double>(samples.size())},
-                      // Amortised: total cost spread over every frame, for passes run periodically.
-                      {"amortized_ms", frame_count > 0 ? sum / frame_count : 0.0}});
-  }
-  const size_t over = frames_over_budget(report);
-  return {
-      {"frames", report.frames.size()},
-      {"percentile_method", kPercentileMethod},
-      {"frame_ms", distribution(frame_ms)},
-      {"frame_budget_ms", report.frame_budget_ms},
-      {"frames_over_budget", over},
-      {"over_budget_fraction", frame_count > 0 ? static_cast<double>(over) / frame_count : 0.0},
-      {"passes", passes},
-      {"jobs",
-       {{"mean_per_frame", frame_count > 0 ? static_cast<double>(jobs) / frame_count : 0.0},
-        // Busy worker time over (frame time x threads): 1 = every thread always busy.
-        {"utilization", available_ms > 0 ? busy_ms / available_ms : 0.0}}},
-  };
-}
-
 std::string format_ms(double ms) {
   char buffer[32];
   std::snprintf(buffer, sizeof buffer, "%.2f", ms);
@@ -181,9 +119,71 @@ std::string compiler_description() {
 #endif
 }
 
-nlohmann::json report_to_json(const RunReport& report) {
+namespace {
+
+// The report's frames: the resumed run's, then this run's.
+nlohmann::json frames_json(const RunReport& report) {
   nlohmann::json frames = nlohmann::json::array();
+  for (const nlohmann::json& frame : report.resumed_frames) frames.push_back(frame);
   for (const FrameTiming& frame : report.frames) frames.push_back(frame_to_json(frame, report));
+  return frames;
+}
+
+}  // namespace
+
+nlohmann::json summarize_frames(const nlohmann::json& frames, double frame_budget_ms) {
+  std::vector<double> frame_ms;
+  double busy_ms = 0.0, available_ms = 0.0;
+  size_t jobs = 0, over = 0;
+  // Per-pass samples in order of first appearance (frames may run different
+  // pass sets, e.g. a LUT updated every few frames).
+  std::vector<std::pair<std::string, std::vector<double>>> pass_samples;
+  std::map<std::string, size_t> index;
+  for (const nlohmann::json& frame : frames) {
+    const double ms = frame.at("frame_ms").get<double>();
+    frame_ms.push_back(ms);
+    over += frame_budget_ms > 0.0 && ms > frame_budget_ms;
+    const nlohmann::json& j = frame.at("jobs");
+    jobs += j.at("count").get<size_t>();
+    busy_ms += j.at("busy_ms").get<double>();
+    available_ms += ms * double(std::max<size_t>(1, j.at("per_worker").size()));
+    for (const nlohmann::json& pass : frame.at("passes")) {
+      const std::string name = pass.at("name").get<std::string>();
+      auto [it, inserted] = index.emplace(name, pass_samples.size());
+      if (inserted) pass_samples.emplace_back(name, std::vector<double>{});
+      pass_samples[it->second].second.push_back(pass.at("ms").get<double>());
+    }
+  }
+  const double frame_count = static_cast<double>(frame_ms.size());
+  nlohmann::json passes = nlohmann::json::array();
+  for (const auto& [name, samples] : pass_samples) {
+    const double sum = std::accumulate(samples.begin(), samples.end(), 0.0);
+    passes.push_back({{"name", name},
+                      {"frames_run", samples.size()},
+                      {"p50", percentile_nearest_rank(samples, 50)},
+                      {"p95", percentile_nearest_rank(samples, 95)},
+                      {"max", *std::max_element(samples.begin(), samples.end())},
+                      {"mean_when_run", sum / static_cast<double>(samples.size())},
+                      // Amortised: total cost spread over every frame, for passes run periodically.
+                      {"amortized_ms", frame_count > 0 ? sum / frame_count : 0.0}});
+  }
+  return {
+      {"frames", frame_ms.size()},
+      {"percentile_method", kPercentileMethod},
+      {"frame_ms", distribution(frame_ms)},
+      {"frame_budget_ms", frame_budget_ms},
+      {"frames_over_budget", over},
+      {"over_budget_fraction", frame_count > 0 ? static_cast<double>(over) / frame_count : 0.0},
+      {"passes", passes},
+      {"jobs",
+       {{"mean_per_frame", frame_count > 0 ? static_cast<double>(jobs) / frame_count : 0.0},
+        // Busy worker time over (frame time x threads): 1 = every thread always busy.
+        {"utilization", available_ms > 0 ? busy_ms / available_ms : 0.0}}},
+  };
+}
+
+nlohmann::json report_to_json(const RunReport& report) {
+  const nlohmann::json frames = frames_json(report);
   return {
       {"format", "cpurender-run-report"},
       {"version", 1},
@@ -196,7 +196,7 @@ nlohmann::json report_to_json(const RunReport& report) {
        {{"compiler", report.build.compiler},
         {"build_type", report.build.build_type},
         {"flags", report.build.flags}}},
-      {"summary", summary_to_json(report)},
+      {"summary", summarize_frames(frames, report.frame_budget_ms)},
       {"frames", frames},
       {"extra", report.extra},
   };
@@ -206,45 +206,40 @@ void write_report_json(const std::string& path, const RunReport& report) {
   write_file_atomic(path, report_to_json(report).dump(2) + "\n");
 }
 
-std::string format_summary(const RunReport& report) {
-  std::vector<double> frame_ms;
-  for (const FrameTiming& frame : report.frames) frame_ms.push_back(frame.frame_ms);
+std::string format_summary(const RunReport& report) { return format_summary(report_to_json(report)); }
+
+std::string format_summary(const nlohmann::json& report) {
+  const nlohmann::json& summary = report.at("summary");
+  const nlohmann::json& ms = summary.at("frame_ms");
+  const size_t frames = summary.at("frames").get<size_t>();
   std::string out;
   char line[256];
-  std::snprintf(line, sizeof line, "%s | %s | %dx%d | %u threads\n", report.scene.c_str(),
-                report.profile.c_str(), report.width, report.height, report.threads);
+  std::snprintf(line, sizeof line, "%s | %s | %dx%d | %u threads\n", report.at("scene").get<std::string>().c_str(),
+                report.at("profile").get<std::string>().c_str(), report.at("resolution").at("width").get<int>(),
+                report.at("resolution").at("height").get<int>(), report.at("threads").get<unsigned>());
   out += line;
-  std::snprintf(line, sizeof line, "frames %zu  frame ms: p50 %s  p95 %s  p99 %s  max %s\n",
-                frame_ms.size(), format_ms(percentile_nearest_rank(frame_ms, 50)).c_str(),
-                format_ms(percentile_nearest_rank(frame_ms, 95)).c_str(),
-                format_ms(percentile_nearest_rank(frame_ms, 99)).c_str(),
-                format_ms(frame_ms.empty() ? 0.0 : *std::max_element(frame_ms.begin(), frame_ms.end()))
-                    .c_str());
+  std::snprintf(line, sizeof line, "frames %zu  frame ms: p50 %s  p95 %s  p99 %s  max %s\n", frames,
+                format_ms(ms.at("p50").get<double>()).c_str(), format_ms(ms.at("p95").get<double>()).c_str(),
+                format_ms(ms.at("p99").get<double>()).c_str(), format_ms(ms.at("max").get<double>()).c_str());
   out += line;
-  if (report.frame_budget_ms > 0.0) {
-    std::snprintf(line, sizeof line, "budget %s ms: %zu of %zu frames over\n",
-                  format_ms(report.frame_budget_ms).c_str(), frames_over_budget(report),
-                  frame_ms.size());
+  const double budget = summary.at("frame_budget_ms").get<double>();
+  if (budget > 0.0) {
+    std::snprintf(line, sizeof line, "budget %s ms: %zu of %zu frames over\n", format_ms(budget).c_str(),
+                  summary.at("frames_over_budget").get<size_t>(), frames);
     out += line;
   }
-  auto passes = pass_samples(report);
-  std::vector<std::pair<double, size_t>> order;
-  for (size_t i = 0; i < passes.size(); ++i)
-    order.emplace_back(percentile_nearest_rank(passes[i].second, 50), i);
-  std::stable_sort(order.begin(), order.end(),
-                   [](const auto& a, const auto& b) { return a.first > b.first; });
+  std::vector<nlohmann::json> passes(summary.at("passes").begin(), summary.at("passes").end());
+  std::stable_sort(passes.begin(), passes.end(), [](const nlohmann::json& a, const nlohmann::json& b) {
+    return a.at("p50").get<double>() > b.at("p50").get<double>();
+  });
   if (!passes.empty()) {
-    std::snprintf(line, sizeof line, "%-28s %10s %10s %10s %8s\n", "pass", "median ms", "p95 ms",
-                  "max ms", "frames");
+    std::snprintf(line, sizeof line, "%-28s %10s %10s %10s %8s\n", "pass", "median ms", "p95 ms", "max ms", "frames");
     out += line;
   }
-  for (const auto& [median, i] : order) {
-    const auto& [name, samples] = passes[i];
-    std::snprintf(line, sizeof line, "%-28s %10s %10s %10s %8zu\n", name.c_str(),
-                  format_ms(median).c_str(),
-                  format_ms(percentile_nearest_rank(samples, 95)).c_str(),
-                  format_ms(*std::max_element(samples.begin(), samples.end())).c_str(),
-                  samples.size());
+  for (const nlohmann::json& pass : passes) {
+    std::snprintf(line, sizeof line, "%-28s %10s %10s %10s %8zu\n", pass.at("name").get<std::string>().c_str(),
+                  format_ms(pass.at("p50").get<double>()).c_str(), format_ms(pass.at("p95").get<double>()).c_str(),
+                  format_ms(pass.at("max").get<double>()).c_str(), pass.at("frames_run").get<size_t>());
     out += line;
   }
   return out;

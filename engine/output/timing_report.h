@@ -34,6 +34,9 @@ struct RunReport {
   unsigned threads = 1;
   double frame_budget_ms = 0.0;  // <= 0: no budget
   std::vector<FrameTiming> frames;
+  // Frames an earlier, interrupted run of the same render wrote (render
+  // --resume), as its report recorded them; listed before `frames`.
+  std::vector<nlohmann::json> resumed_frames;
   BuildInfo build;
   nlohmann::json extra = nlohmann::json::object();
 };
@@ -51,8 +54,13 @@ nlohmann::json report_to_json(const RunReport& report);
 // report_to_json, pretty-printed, written atomically. Throws cr::Error.
 void write_report_json(const std::string& path, const RunReport& report);
 
+// The report's "summary" from its "frames" entries (report_to_json's): frame
+// and pass percentiles, budget overruns, job counts and utilisation. Also
+// what a merged report of several runs' frames is summarised with.
+nlohmann::json summarize_frames(const nlohmann::json& frames, double frame_budget_ms);
 // A short table for the terminal: frame-time percentiles, budget overruns,
 // and each pass's median / p95 / max sorted by median cost.
 std::string format_summary(const RunReport& report);
+std::string format_summary(const nlohmann::json& report);  // of report_to_json's document
 
 }  // namespace cr

@@ -123,6 +123,15 @@ class Plugin {
     m.options = parse_plan_options(ctx.table_options, ctx.table_path, name());
     return m;
   }
+  // How many frames a render must run before a frame so that what this
+  // plugin carries from frame to frame (a temporal history, amortised LUT
+  // rebuilds) depends on where rendering started by at most `tolerance` of
+  // the frame's values: the warm-up of a render that starts mid-path (a
+  // shard). 0: the plugin keeps no such state.
+  virtual int warmup_frames(double tolerance) const {
+    (void)tolerance;
+    return 0;
+  }
   // Adds the plugin's per-frame figures (e.g. LUT bake times) to the report.
   virtual void report_frame(nlohmann::json& frame) { (void)frame; }
 };

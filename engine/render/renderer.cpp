@@ -61,6 +61,12 @@ FrameView Renderer::frame_view(int frame) const {
   return view;
 }
 
+int Renderer::warmup_frames(double tolerance) const {
+  int frames = 0;
+  for (const auto& p : plugins_) frames = std::max(frames, p->warmup_frames(tolerance));
+  return frames;
+}
+
 Plugin* Renderer::plugin(const std::string& name) const {
   for (const auto& p : plugins_)
     if (p->name() == name) return p.get();

@@ -70,6 +70,12 @@ class Renderer {
   const LightEnvironment& light_environment() const { return light_; }
   Plugin* plugin(const std::string& name) const;  // nullptr when absent or unused by the scene
   const std::vector<std::unique_ptr<Plugin>>& plugins() const { return plugins_; }
+  // Frames to render before a frame so that it depends on where rendering
+  // started by at most `tolerance` (Plugin::warmup_frames over the scene's
+  // plugins). The engine's own carried state, the scrolled shadow map,
+  // needs none: a cold start renders it whole, which a scrolled map equals
+  // to rounding (shadow_scroll.h).
+  int warmup_frames(double tolerance) const;
 
  private:
   const Scene& scene_;
