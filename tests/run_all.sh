@@ -43,7 +43,7 @@ build_and_test build Release "" ""
 # The report tests run Python and Chromium, no instrumented code: release only.
 stage "AddressSanitizer + UndefinedBehaviorSanitizer"
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-  build_and_test build-asan Sanitize "address,undefined" "" -LE "slow|report"
+  build_and_test build-asan Sanitize "address,undefined" "" -LE "slow|report|scaleout"
 
 stage "ThreadSanitizer (job system, frame graph, determinism across thread counts)"
 TSAN_OPTIONS=halt_on_error=1 build_and_test build-tsan Sanitize thread \

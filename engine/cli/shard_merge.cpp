@@ -58,14 +58,14 @@ std::vector<ShardDir> check_shards(const std::vector<std::string>& dirs) {
   std::string missing;
   for (int i = 0; i < count; ++i)
     if (!by_index.count(i)) missing += (missing.empty() ? "" : ", ") + std::to_string(i) + "/" + std::to_string(count);
-  if (!missing.empty()) throw InputError(a.dir, "merge: shard(s) " + missing + " missing");
+  if (!missing.empty()) throw InputError(a.dir, "shard(s) " + missing + " missing: give every shard's folder");
   // Every item in exactly one shard.
   std::map<std::string, int> owners;
   for (const ShardDir& s : shards)
     for (const std::string& item : s.manifest.owned) ++owners[item];
   for (const std::string& item : a.manifest.items)
     if (owners[item] != 1)
-      throw InputError(a.dir, "merge: item '" + item + "' belongs to " + std::to_string(owners[item]) + " shards");
+      throw InputError(a.dir, "item '" + item + "' belongs to " + std::to_string(owners[item]) + " shards");
   std::sort(shards.begin(), shards.end(),
             [](const ShardDir& x, const ShardDir& y) { return x.manifest.shard.index < y.manifest.shard.index; });
   return shards;
