@@ -48,7 +48,7 @@ int merge_golden(const std::vector<ShardDir>& shards, const std::string& out) {
     fail |= row.status == GoldenStatus::Fail;
   }
   merged.exit_code = error ? 2 : fail ? 1 : 0;
-  merged.note = "merged from " + std::to_string(shards.size()) + " shards";
+  write_merge_record(shards, out);
   const std::string table = format_golden_report(merged);
   write_file_atomic(out + "/golden_report.txt", table);
   write_file_atomic(out + "/golden_report.json", golden_report_json(merged).dump(2) + "\n");

@@ -54,6 +54,7 @@ int merge_render(const std::vector<ShardDir>& shards, const std::string& out) {
   merged["extra"]["render"].erase("block");
   merged["extra"]["render"]["shard"] = "merged";
   merged["extra"]["render"]["shards"] = parts;
+  write_merge_record(shards, out);
   write_file_atomic(out + "/report.json", merged.dump(2) + "\n");
   std::cout << format_summary(merged) << "merged " << shards.size() << " shards: " << files << " frame files and "
             << out << "/report.json\n";

@@ -6,6 +6,7 @@
 #include <set>
 
 #include "engine/core/error.h"
+#include "engine/output/atomic_file.h"
 
 namespace cr {
 
@@ -69,6 +70,16 @@ std::vector<ShardDir> check_shards(const std::vector<std::string>& dirs) {
   std::sort(shards.begin(), shards.end(),
             [](const ShardDir& x, const ShardDir& y) { return x.manifest.shard.index < y.manifest.shard.index; });
   return shards;
+}
+
+void write_merge_record(const std::vector<ShardDir>& shards, const std::string& out) {
+  nlohmann::json record = {{"command", shards.front().manifest.command},
+                           {"build", shards.front().manifest.build},
+                           {"shards", nlohmann::json::array()}};
+  for (const ShardDir& s : shards)
+    record["shards"].push_back({{"shard", s.manifest.shard.label()}, {"dir", s.dir}, {"host", s.manifest.host},
+                                {"extra", s.manifest.extra}});
+  write_file_atomic(out + "/merge.json", record.dump(2) + "\n");
 }
 
 void link_or_copy(const std::string& src, const std::string& dst) {

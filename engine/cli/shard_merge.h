@@ -25,6 +25,10 @@ int merge_sweep(const std::vector<ShardDir>& shards, const std::string& out);
 int merge_golden(const std::vector<ShardDir>& shards, const std::string& out);
 int merge_render(const std::vector<ShardDir>& shards, const std::string& out);
 
+// OUT/merge.json: which shard ran where (the merged files themselves are
+// what the unsharded run writes).
+void write_merge_record(const std::vector<ShardDir>& shards, const std::string& out);
+
 // `src` at `dst`: a hard link where the file system allows, else a copy.
 void link_or_copy(const std::string& src, const std::string& dst);
 

@@ -21,6 +21,7 @@
 #include "engine/core/error.h"
 #include "engine/output/atomic_file.h"
 #include "engine/output/exr_io.h"
+#include "engine/output/file_lock.h"
 #include "engine/output/image_compare.h"
 #include "engine/output/percentile.h"
 #include "engine/render/renderer.h"
@@ -39,13 +40,13 @@ const char* const kDescription =
     "last frame against a reference render of the same frames (mean and p95 relative luminance error of\n"
     "the linear frames, mean LDR-FLIP of the displayed ones). The reference is --reference (a profile), by default the base profile with 8x MSAA and,\n"
     "when it has an atmosphere section, the atmosphere's LUTs rebuilt every frame at 15 wavelengths; it is\n"
-    "rendered once and cached in OUT/references by what it depends on (the build, the reference profile,\n"
+    "rendered once and cached in --references (default OUT/references) by what it depends on (the build, the reference profile,\n"
     "the scene file, the resolution and the frame count).\n"
     "--point LABEL=PROFILE adds a listed point rendering a whole profile (a name, a file, or auto[:BASE],\n"
     "planned for the scene); --points FILE reads axes and listed points from a sweep file.\n"
     "--truth also measures, at the measured frame, each module the scene uses against its own ground truth\n"
     "(those the plugins' tools register, e.g. a path-traced or ray-marched reference), recorded per point\n"
-    "under \"module_error\"; their references are cached in OUT/references. --truth-setting\n"
+    "under \"module_error\"; their references are cached there too. --truth-setting\n"
     "MODULE.KEY=VALUE sets a module's reference size or sample count (docs/sweep.md).\n"
     "Writes OUT/sweep.json and OUT/sweep.csv after every point (atomically), and OUT/profiles/ the\n"
     "profile of each point. --resume keeps the points of an earlier run of the same sweep (same scene,\n"
@@ -139,6 +140,7 @@ int sweep_command(const std::vector<std::string>& args, const PluginRegistry& re
       .option("truth", "all|none|MODULE,...", "measure these modules against their own ground truths", "all")
       .option("truth-setting", "MODULE.KEY=VALUE", "a ground truth's reference setting (repeat for more)")
       .option("out", "DIR", "output directory", "out/sweep")
+      .option("references", "DIR", "cached references, shareable by the shards of a sweep (default: OUT/references)")
       .flag("resume", "keep the finished points of an earlier run of the same sweep");
   add_shard_option(p);
   if (!p.parse(args, 0, 1)) return 0;
@@ -178,7 +180,8 @@ int sweep_command(const std::vector<std::string>& args, const PluginRegistry& re
                          : default_reference(base);
   if (reference.is_discarded() || !reference.is_object()) throw InputError(p.get("reference"), "not a JSON object");
   std::filesystem::create_directories(out + "/profiles");
-  std::filesystem::create_directories(out + "/references");
+  const std::string references = p.has("references") ? p.get("references") : out + "/references";
+  std::filesystem::create_directories(references);
 
   // What the sweep is: --resume refuses a file of another sweep.
   nlohmann::json doc = {{"scene", scene},          {"base", base},          {"reference", reference},
@@ -236,14 +239,16 @@ int sweep_command(const std::vector<std::string>& args, const PluginRegistry& re
                               std::to_string(width) + "x" + std::to_string(height) + "|" +
                               std::to_string(warmup + frames) + (first > 0 ? "|from " + std::to_string(first) : "");
   const std::string ref_name = cache_name(ref_key);
-  const std::string ref_exr = out + "/references/" + ref_name + ".exr";
-  const std::string ref_display_exr = out + "/references/" + ref_name + ".display.exr";
+  const std::string ref_exr = references + "/" + ref_name + ".exr";
+  const std::string ref_display_exr = references + "/" + ref_name + ".display.exr";
+  // Shards sharing --references render it once: the others wait here, then read it.
+  std::optional<FileLock> ref_lock(std::in_place, references + "/" + ref_name + ".lock");
   ImageRGBf ref_image, ref_display;
   if (std::filesystem::exists(ref_exr) && std::filesystem::exists(ref_display_exr)) {
     ref_image = read_exr(ref_exr).color;
     ref_display = read_exr(ref_display_exr).color;
   } else {
-    const std::string ref_profile = out + "/references/" + ref_name + ".json";
+    const std::string ref_profile = references + "/" + ref_name + ".json";
     write_file_atomic(ref_profile, reference.dump(2) + "\n");
     std::fprintf(stderr, "sweep: rendering the reference (%s)\n", ref_profile.c_str());
     const PointResult r = render_point(scene, ref_profile, registry, width, height, threads, first, 0, warmup + frames);
@@ -270,6 +275,7 @@ int sweep_command(const std::vector<std::string>& args, const PluginRegistry& re
     write_shard_manifest(out, manifest);
   };
   write_manifest();
+  ref_lock.reset();
   const auto start = std::chrono::steady_clock::now();
   int rendered = 0;
   size_t todo = 0;
@@ -333,7 +339,8 @@ int sweep_command(const std::vector<std::string>& args, const PluginRegistry& re
     if (!truths.modules.empty()) {
       const ModuleTruthRequest request{*r.setup.scene, r.setup.description, r.setup.profile,
                                        planned ? r.plan->profile : profile, w, h, last_frame, t,
-                                       nlohmann::json::object(), out + "/references", build_hash()};
+                                       nlohmann::json::object(), references, build_hash()};
+      const FileLock truth_lock(references + "/truths.lock");  // each truth reference rendered once
       row["module_error"] = measure_truths(truths, request);
     }
     doc["points"].push_back(row);

@@ -46,9 +46,7 @@ int merge_sweep(const std::vector<ShardDir>& shards, const std::string& out) {
     if (!rows.count(id)) throw InputError(shards.front().dir, "merge: no shard has a row for point '" + id + "'");
     doc["points"].push_back(rows[id]);
   }
-  doc["shards"] = nlohmann::json::array();
-  for (const ShardDir& s : shards)
-    doc["shards"].push_back({{"shard", s.manifest.shard.label()}, {"dir", s.dir}, {"host", s.manifest.host}});
+  write_merge_record(shards, out);
   write_file_atomic(out + "/sweep.json", doc.dump(2) + "\n");
   write_file_atomic(out + "/sweep.csv", sweep_csv(doc));
   std::printf("merged %zu shards: wrote %s/sweep.json and %s/sweep.csv (%zu points)\n", shards.size(), out.c_str(),

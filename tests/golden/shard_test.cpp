@@ -97,7 +97,10 @@ TEST_CASE("sharded sweep: 2 shards merged equal the unsharded sweep; merge refus
     CHECK(cr::load_json_file(merged["points"][i]["profile"].get<std::string>()) ==
           cr::load_json_file(whole["points"][i]["profile"].get<std::string>()));
   }
-  CHECK(merged["shards"].size() == 2);
+  for (const auto& [key, value] : whole.items())  // the sweep's definition as the unsharded run wrote it
+    if (key != "points") CHECK(merged[key] == value);
+  CHECK(merged.size() == whole.size());  // what ran where is in merge.json
+  CHECK(cr::load_json_file(dir.file("merged") + "/merge.json")["shards"].size() == 2);
   CHECK(std::filesystem::exists(dir.file("merged") + "/sweep.csv"));
 
   // Refusals, each naming what is wrong.

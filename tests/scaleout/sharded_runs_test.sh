@@ -21,7 +21,7 @@ if [ "${1:-}" = --slurm ]; then
   mkdir -p "$WORK/slurm"
   ids=""
   for kind in sweep golden; do
-    if [ $kind = sweep ]; then args="sweep $SWEEP_ARGS --out $WORK/slurm/sweep.\$SLURM_ARRAY_TASK_ID"
+    if [ $kind = sweep ]; then args="sweep $SWEEP_ARGS --references $WORK/slurm/references --out $WORK/slurm/sweep.\$SLURM_ARRAY_TASK_ID"
     else args="golden $GOLDEN_ARGS --report $WORK/slurm/golden.\$SLURM_ARRAY_TASK_ID"; fi
     jid=$(timeout 15 sbatch --parsable --array=0-3 --job-name="shard_$kind" --chdir="$WORK/slurm" \
           --output="$WORK/slurm/$kind-%a.log" \
@@ -65,6 +65,7 @@ ARGS
 . "$WORK/args.sh"
 t0=$SECONDS
 
+# (the sweep's shards share one folder of cached references: rendered once, locked)
 # Compares a merged run with the unsharded one: sweep rows without their
 # times, golden rows' verdicts and metrics.
 same_json() {  # kind whole merged
@@ -102,7 +103,7 @@ check_merge() {  # label folder-prefix
 if command -v parallel >/dev/null 2>&1; then
   P=$WORK/parallel; mkdir -p "$P"
   # shellcheck disable=SC2086
-  if timeout 300 parallel --will-cite -j2 --halt now,fail=1 "$BIN" sweep $SWEEP_ARGS --shard {}/4 --out "$P/sweep.{}" ::: 0 1 2 3 </dev/null >/dev/null 2>&1 &&
+  if timeout 300 parallel --will-cite -j2 --halt now,fail=1 "$BIN" sweep $SWEEP_ARGS --shard {}/4 --references "$P/references" --out "$P/sweep.{}" ::: 0 1 2 3 </dev/null >/dev/null 2>&1 &&
      timeout 300 parallel --will-cite -j2 --halt now,fail=1 "$BIN" golden $GOLDEN_ARGS --shard {}/4 --report "$P/golden.{}" ::: 0 1 2 3 </dev/null >/dev/null 2>&1
   then check_merge "GNU parallel" "$P"
   else fail "GNU parallel: a shard failed"; fi
