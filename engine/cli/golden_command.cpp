@@ -168,12 +168,7 @@ int golden_command(const std::vector<std::string>& args, const PluginRegistry& r
     definition["inputs"] = cache_name(inputs);
   }
   const std::string cases_dir = report_dir + "/cases";
-  ShardManifest manifest;
-  manifest.command = "golden";
-  manifest.shard = shard.shard;
-  manifest.build = build_hash();
-  manifest.host = host_name();
-  manifest.definition = definition;
+  ShardManifest manifest = new_shard_manifest("golden", shard.shard, definition);
   for (size_t i = 0; i < cases.size(); ++i) {
     manifest.items.push_back(cases[i].name());
     if (shard.shard.owns(i)) manifest.owned.push_back(cases[i].name());

@@ -96,12 +96,7 @@ int render_command(const std::vector<std::string>& args, const PluginRegistry& r
   std::filesystem::create_directories(out);
 
   const nlohmann::json definition = render_definition(args, setup, first);
-  ShardManifest manifest;
-  manifest.command = "render";
-  manifest.shard = shard.shard;
-  manifest.build = build_hash();
-  manifest.host = host_name();
-  manifest.definition = definition;
+  ShardManifest manifest = new_shard_manifest("render", shard.shard, definition);
   for (int f = first; f < first + setup.frames; ++f) {
     manifest.items.push_back(std::to_string(f));
     if (f >= begin && f < end) manifest.owned.push_back(std::to_string(f));

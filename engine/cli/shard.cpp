@@ -5,6 +5,7 @@
 #include <charconv>
 #include <filesystem>
 
+#include "engine/cli/cache_key.h"
 #include "engine/core/error.h"
 #include "engine/output/atomic_file.h"
 
@@ -71,6 +72,16 @@ ShardManifest ShardManifest::from_json(const nlohmann::json& j, const std::strin
   }
   if (m.shard.count < 1 || m.shard.index < 0 || m.shard.index >= m.shard.count)
     throw InputError(file, "malformed shard manifest: shard " + m.shard.label());
+  return m;
+}
+
+ShardManifest new_shard_manifest(const std::string& command, const Shard& shard, nlohmann::json definition) {
+  ShardManifest m;
+  m.command = command;
+  m.shard = shard;
+  m.build = build_hash();
+  m.host = host_name();
+  m.definition = std::move(definition);
   return m;
 }
 

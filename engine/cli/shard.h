@@ -57,6 +57,9 @@ struct ShardManifest {
   static ShardManifest from_json(const nlohmann::json& j, const std::string& file);  // InputError when malformed
 };
 
+// A manifest of this build and host, nothing done yet.
+ShardManifest new_shard_manifest(const std::string& command, const Shard& shard, nlohmann::json definition);
+
 constexpr const char* kShardManifestName = "shard.json";
 void write_shard_manifest(const std::string& dir, const ShardManifest& manifest);
 ShardManifest read_shard_manifest(const std::string& dir);  // InputError when absent or malformed

@@ -195,15 +195,11 @@ int sweep_command(const std::vector<std::string>& args, const PluginRegistry& re
   // A shard's manifest: the sweep's definition (the document without its
   // points, and the scene's bytes) and its points, so `merge` can tell
   // whether shards belong together.
-  ShardManifest manifest;
+  nlohmann::json definition = doc;
+  definition.erase("points");
+  definition["scene_bytes"] = cache_name(read_file_bytes(scene));
+  ShardManifest manifest = new_shard_manifest("sweep", shard.shard, definition);
   if (shard.given) {
-    manifest.command = "sweep";
-    manifest.shard = shard.shard;
-    manifest.build = build_hash();
-    manifest.host = host_name();
-    manifest.definition = doc;
-    manifest.definition.erase("points");
-    manifest.definition["scene_bytes"] = cache_name(read_file_bytes(scene));
     for (size_t i = 0; i < points.size(); ++i) {
       manifest.items.push_back(points[i].id());
       if (shard.shard.owns(i)) manifest.owned.push_back(points[i].id());

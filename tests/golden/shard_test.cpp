@@ -227,3 +227,27 @@ TEST_CASE("sharded render: 3 blocks of the fog flythrough equal the unsharded fr
   CHECK_THROWS_WITH_AS(cr::merge_command({dir.file("r0"), dir.file("r1"), dir.file("o2"), "--out", dir.file("m4")}),
                        doctest::Contains("differs"), cr::InputError);
 }
+
+TEST_CASE("merge: malformed shard manifests are input errors naming the file, never a crash") {
+  cr::test::ScratchDir dir("shard-bad");
+  const cr::ShardManifest good = cr::new_shard_manifest("sweep", cr::Shard{0, 1}, {{"frames", 1}});
+  for (const std::string& text :
+       {std::string("not json"), std::string("[]"), std::string("{\"format\": \"cpurender-shard\"}"),
+        std::string(R"({"format": "cpurender-shard", "command": 5})"),
+        [&] { nlohmann::json j = good.to_json(); j["shard"]["index"] = 3; return j.dump(); }(),
+        [&] { nlohmann::json j = good.to_json(); j["shard"]["count"] = -2; return j.dump(); }(),
+        [&] { nlohmann::json j = good.to_json(); j["items"] = {1, 2}; return j.dump(); }(),
+        [&] { nlohmann::json j = good.to_json(); j["complete"] = "yes"; return j.dump(); }()}) {
+    std::filesystem::create_directories(dir.file("s"));
+    cr::write_file_atomic(dir.file("s") + "/shard.json", text);
+    CHECK_THROWS_WITH_AS(cr::merge_command({dir.file("s"), "--out", dir.file("m")}), doctest::Contains("shard.json"),
+                         cr::InputError);
+  }
+  // A complete manifest whose outputs are missing.
+  nlohmann::json j = good.to_json();
+  j["complete"] = true;
+  cr::write_file_atomic(dir.file("s") + "/shard.json", j.dump());
+  CHECK_THROWS_WITH_AS(cr::merge_command({dir.file("s"), "--out", dir.file("m")}), doctest::Contains("sweep.json"),
+                       cr::InputError);
+  CHECK_THROWS_AS(cr::merge_command({dir.file("s")}), cr::UsageError);  // no --out
+}
