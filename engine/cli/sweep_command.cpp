@@ -239,8 +239,13 @@ int sweep_command(const std::vector<std::string>& args, const PluginRegistry& re
   const std::string ref_display_exr = references + "/" + ref_name + ".display.exr";
   // Shards sharing --references render it once: the others wait here, then read it.
   std::optional<FileLock> ref_lock(std::in_place, references + "/" + ref_name + ".lock");
+  // Points still to render (a shard's; none when resuming a finished sweep).
+  size_t todo = 0;
+  for (size_t i = 0; i < points.size(); ++i) todo += shard.shard.owns(i) && !done.count(points[i].id());
   ImageRGBf ref_image, ref_display;
-  if (std::filesystem::exists(ref_exr) && std::filesystem::exists(ref_display_exr)) {
+  if (todo == 0) {
+    // nothing to compare: no reference is needed
+  } else if (std::filesystem::exists(ref_exr) && std::filesystem::exists(ref_display_exr)) {
     ref_image = read_exr(ref_exr).color;
     ref_display = read_exr(ref_display_exr).color;
   } else {
@@ -274,8 +279,6 @@ int sweep_command(const std::vector<std::string>& args, const PluginRegistry& re
   ref_lock.reset();
   const auto start = std::chrono::steady_clock::now();
   int rendered = 0;
-  size_t todo = 0;
-  for (size_t i = 0; i < points.size(); ++i) todo += shard.shard.owns(i) && !done.count(points[i].id());
   for (size_t i = 0; i < points.size(); ++i) {
     const SweepPoint& point = points[i];
     if (done.count(point.id()) || !shard.shard.owns(i)) continue;
