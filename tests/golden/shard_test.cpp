@@ -89,8 +89,8 @@ TEST_CASE("sharded sweep: 2 shards merged equal the unsharded sweep; merge refus
   CHECK(cr::load_json_file(dir.file("s0") + "/sweep.json")["points"].size() == 2);  // points 0 and 2
   CHECK(cr::load_json_file(dir.file("s1") + "/sweep.json")["points"].size() == 1);
   REQUIRE(cr::merge_command({dir.file("s1"), dir.file("s0"), "--out", dir.file("merged")}) == 0);
-  const nlohmann::json whole = cr::load_json_file(dir.file("whole") + "/sweep.json");
-  const nlohmann::json merged = cr::load_json_file(dir.file("merged") + "/sweep.json");
+  nlohmann::json whole = cr::load_json_file(dir.file("whole") + "/sweep.json");
+  nlohmann::json merged = cr::load_json_file(dir.file("merged") + "/sweep.json");
   REQUIRE(merged["points"].size() == 3);
   for (size_t i = 0; i < 3; ++i) {
     CHECK(without_timings(merged["points"][i]) == without_timings(whole["points"][i]));  // same bits, same errors
@@ -98,7 +98,7 @@ TEST_CASE("sharded sweep: 2 shards merged equal the unsharded sweep; merge refus
           cr::load_json_file(whole["points"][i]["profile"].get<std::string>()));
   }
   for (const auto& [key, value] : whole.items())  // the sweep's definition as the unsharded run wrote it
-    if (key != "points") CHECK(merged[key] == value);
+    if (key != "points") CHECK(merged.value(key, nlohmann::json()) == value);
   CHECK(merged.size() == whole.size());  // what ran where is in merge.json
   CHECK(cr::load_json_file(dir.file("merged") + "/merge.json")["shards"].size() == 2);
   CHECK(std::filesystem::exists(dir.file("merged") + "/sweep.csv"));
@@ -123,7 +123,7 @@ TEST_CASE("sharded sweep: 2 shards merged equal the unsharded sweep; merge refus
   CHECK_THROWS_WITH_AS(cr::merge_command({dir.file("s0"), dir.file("s1"), "--out", dir.file("m3")}),
                        doctest::Contains("incomplete"), cr::InputError);
   REQUIRE(run(dir.file("s0"), {"--shard", "0/2", "--resume"}) == 0);
-  const nlohmann::json resumed = cr::load_json_file(dir.file("s0") + "/sweep.json");
+  nlohmann::json resumed = cr::load_json_file(dir.file("s0") + "/sweep.json");
   REQUIRE(resumed["points"].size() == 2);
   CHECK(resumed["points"][0] == first_row);  // kept as it was, timings included
   REQUIRE(cr::merge_command({dir.file("s0"), dir.file("s1"), "--out", dir.file("m3")}) == 0);
@@ -145,8 +145,8 @@ TEST_CASE("sharded golden check: merged report equals the unsharded one; --resum
   REQUIRE(run(dir.file("g0"), {"--shard", "0/2"}) == 0);
   REQUIRE(run(dir.file("g1"), {"--shard", "1/2"}) == 0);
   CHECK(cr::merge_command({dir.file("g0"), dir.file("g1"), "--out", dir.file("merged")}) == 0);
-  const nlohmann::json whole = cr::load_json_file(dir.file("whole") + "/golden_report.json");
-  const nlohmann::json merged = cr::load_json_file(dir.file("merged") + "/golden_report.json");
+  nlohmann::json whole = cr::load_json_file(dir.file("whole") + "/golden_report.json");
+  nlohmann::json merged = cr::load_json_file(dir.file("merged") + "/golden_report.json");
   REQUIRE(whole["rows"].size() == 2);  // engine_only under desktop and mobile
   REQUIRE(merged["rows"].size() == 2);
   for (size_t i = 0; i < 2; ++i)
@@ -156,7 +156,7 @@ TEST_CASE("sharded golden check: merged report equals the unsharded one; --resum
 
   // --resume renders nothing that finished: the kept rows' times are the first run's.
   REQUIRE(run(dir.file("g0"), {"--shard", "0/2", "--resume"}) == 0);
-  const nlohmann::json again = cr::load_json_file(dir.file("g0") + "/golden_report.json");
+  nlohmann::json again = cr::load_json_file(dir.file("g0") + "/golden_report.json");
   CHECK(again["rows"][0]["render_ms"] ==
         cr::load_json_file(dir.file("merged") + "/golden_report.json")["rows"][0]["render_ms"]);
   CHECK_THROWS_AS(run(dir.file("u"), {"--update", "--shard", "0/2"}), cr::UsageError);
@@ -194,10 +194,17 @@ TEST_CASE("sharded render: 3 blocks of the fog flythrough equal the unsharded fr
   CHECK(cr::load_json_file(dir.file("r2") + "/shard.json")["extra"]["warmup_frames"] == 6);
   REQUIRE(cr::merge_command({dir.file("r0"), dir.file("r1"), dir.file("r2"), "--out", dir.file("merged")}) == 0);
   CHECK(same_frames(dir.file("whole"), dir.file("merged"), 0, 9));  // bit for bit
-  const nlohmann::json report = cr::load_json_file(dir.file("merged") + "/report.json");
+  nlohmann::json report = cr::load_json_file(dir.file("merged") + "/report.json");
   REQUIRE(report["frames"].size() == 9);
   CHECK(report["summary"]["frames"] == 9);
   CHECK(report["extra"]["render"]["shards"].size() == 3);
+
+  // More shards than frames: the empty blocks render nothing and still merge.
+  for (const char* shard : {"0/4", "1/4", "2/4", "3/4"})
+    REQUIRE(run(dir.file(std::string("e") + shard[0]), {"--shard", shard, "--frames", "2"}) == 0);
+  REQUIRE(cr::merge_command({dir.file("e0"), dir.file("e1"), dir.file("e2"), dir.file("e3"), "--out", dir.file("me")}) == 0);
+  CHECK(cr::load_json_file(dir.file("me") + "/report.json")["frames"].size() == 2);
+  CHECK(same_frames(dir.file("whole"), dir.file("me"), 0, 2));
 
   // A short explicit warm-up: the block's first frame starts from a cold
   // history, close to the unsharded frame but not its bits.
@@ -215,7 +222,7 @@ TEST_CASE("sharded render: 3 blocks of the fog flythrough equal the unsharded fr
   CHECK_THROWS_AS(cr::merge_command({dir.file("r0"), dir.file("r1"), dir.file("r2"), "--out", dir.file("m2")}),
                   cr::InputError);
   REQUIRE(run(dir.file("r1"), {"--shard", "1/3", "--resume"}) == 0);
-  const nlohmann::json resumed = cr::load_json_file(dir.file("r1") + "/report.json");
+  nlohmann::json resumed = cr::load_json_file(dir.file("r1") + "/report.json");
   REQUIRE(resumed["frames"].size() == 3);
   CHECK(resumed["frames"][0] == r1["frames"][0]);  // the kept frame's record
   CHECK(resumed["extra"]["render"]["warmup_frames"] == 4);  // from frame 0 up to the first missing one
