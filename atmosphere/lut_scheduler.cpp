@@ -12,7 +12,7 @@ namespace cr {
 
 namespace {
 
-double angle_deg(const glm::vec3& a, const glm::vec3& b) {
+double angle_deg_f(const glm::vec3& a, const glm::vec3& b) {
   const double c = std::clamp(double(glm::dot(a, b)), -1.0, 1.0);
   return std::acos(c) * 180.0 / kPiD;
 }
@@ -96,11 +96,11 @@ std::string LutScheduler::invalidation(LutKind kind, const AtmosphereFrameInputs
       if ((against_back ? ap_.b_upstream : ap_.f_upstream) != upstream_now) return "upstream";
       const FroxelCamera& c = against_back ? ap_.b_camera : ap_.f_camera;
       if (glm::length(c.position - in.camera.position) > settings_.invalidate_camera_m) return "camera";
-      if (angle_deg(c.forward, in.camera.forward) > settings_.invalidate_camera_deg ||
-          angle_deg(c.up, in.camera.up) > settings_.invalidate_camera_deg)
+      if (angle_deg_f(c.forward, in.camera.forward) > settings_.invalidate_camera_deg ||
+          angle_deg_f(c.up, in.camera.up) > settings_.invalidate_camera_deg)
         return "camera";
       if (c.tan_half_fov != in.camera.tan_half_fov || c.aspect != in.camera.aspect) return "camera";
-      if (angle_deg(c.sun_direction, in.camera.sun_direction) > settings_.invalidate_sun_deg) return "sun";
+      if (angle_deg_f(c.sun_direction, in.camera.sun_direction) > settings_.invalidate_sun_deg) return "sun";
       return "";
     }
   }

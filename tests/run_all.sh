@@ -22,7 +22,11 @@ build_and_test() {  # dir, build type, sanitizer, "targets" (empty = all), ctest
   # RelWithDebInfo and still give symbolised stack traces.
   local flags=""
   [ "$type" = "Sanitize" ] && flags="-O1 -g1"
-  cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE="$type" -DCMAKE_CXX_FLAGS="$flags" -DSANITIZE="$san" >/dev/null
+  # Unity builds: batches of 8 sources per translation unit parse the shared
+  # headers once a batch; a clean ASan build of a part takes about half the
+  # CPU time. CI only: a developer's edit would recompile the whole batch.
+  cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE="$type" -DCMAKE_CXX_FLAGS="$flags" -DSANITIZE="$san" \
+        -DCMAKE_UNITY_BUILD=ON -DCMAKE_UNITY_BUILD_BATCH_SIZE=8 >/dev/null
   if [ -n "$targets" ]; then
     # shellcheck disable=SC2086
     cmake --build "$dir" -j"$jobs" --target $targets

@@ -31,7 +31,7 @@ constexpr const char* kUsage =
     "PSNR uses a peak of 1.0 and prints inf for identical images. EXR inputs are\n"
     "compared in linear values; FLIP sees them after exposure 0 EV and an ACES tonemap.\n";
 
-struct UsageError : Error {
+struct CompareUsageError : Error {
   using Error::Error;
 };
 
@@ -41,7 +41,7 @@ double parse_threshold(const std::string& option, const std::string& text) {
   const double value = std::strtod(text.c_str(), &end);
   if (text.empty() || end != text.c_str() + text.size() || errno == ERANGE || std::isnan(value) ||
       value < 0.0)
-    throw UsageError(option + " expects a non-negative number (or inf), got '" + text + "'");
+    throw CompareUsageError(option + " expects a non-negative number (or inf), got '" + text + "'");
   return value;
 }
 
@@ -68,7 +68,7 @@ int compare_command(const std::vector<std::string>& args) {
         return 0;
       }
       if (arg.size() > 1 && arg[0] == '-') {
-        if (i + 1 >= args.size()) throw UsageError(arg + " needs a value");
+        if (i + 1 >= args.size()) throw CompareUsageError(arg + " needs a value");
         const std::string& value = args[++i];
         if (arg == "--max-abs") thresholds.max_abs = parse_threshold(arg, value);
         else if (arg == "--rmse") thresholds.rmse = parse_threshold(arg, value);
@@ -77,23 +77,23 @@ int compare_command(const std::vector<std::string>& args) {
         else if (arg == "--flip") thresholds.flip_mean = parse_threshold(arg, value);
         else if (arg == "--ppd") {
           ppd = parse_threshold(arg, value);
-          if (!(ppd > 0.0) || std::isinf(ppd)) throw UsageError("--ppd must be a positive number");
+          if (!(ppd > 0.0) || std::isinf(ppd)) throw CompareUsageError("--ppd must be a positive number");
         } else if (arg == "--diff") diff_path = value;
         else if (arg == "--json") json_path = value;
         else if (arg == "--diff-kind") {
           if (value == "flip") heatmap = HeatmapKind::Flip;
           else if (value == "abs") heatmap = HeatmapKind::Difference;
-          else throw UsageError("--diff-kind expects flip or abs, got '" + value + "'");
+          else throw CompareUsageError("--diff-kind expects flip or abs, got '" + value + "'");
         } else {
-          throw UsageError("unknown option " + arg);
+          throw CompareUsageError("unknown option " + arg);
         }
         continue;
       }
       inputs.push_back(arg);
     }
     if (inputs.size() != 2)
-      throw UsageError("expected two images (REFERENCE TEST), got " + std::to_string(inputs.size()));
-  } catch (const UsageError& e) {
+      throw CompareUsageError("expected two images (REFERENCE TEST), got " + std::to_string(inputs.size()));
+  } catch (const CompareUsageError& e) {
     std::cerr << "cpurender compare: " << e.what() << "\n" << kUsage;
     return 2;
   }

@@ -30,7 +30,7 @@ namespace cr {
 
 namespace {
 
-const char* const kDescription =
+const char* const kSweepDescription =
     "Renders SCENE (default: the generated default scene) at every point of the cross product of the\n"
     "--axis options, each a profile key (a dotted path into the profile JSON, e.g.\n"
     "atmosphere.skyview_lut.width) with its values, plus \"threads\" and \"resolution\" (WxH). Each point\n"
@@ -124,7 +124,7 @@ std::string format_eta(double seconds) {
 
 int sweep_command(const std::vector<std::string>& args, const PluginRegistry& registry,
                   const ModuleTruthRegistry& truth_registry) {
-  ArgParser p("sweep", "cpurender sweep [SCENE] (--axis KEY=V1,V2,... | --point LABEL=PROFILE | --points FILE)... [options]", kDescription);
+  ArgParser p("sweep", "cpurender sweep [SCENE] (--axis KEY=V1,V2,... | --point LABEL=PROFILE | --points FILE)... [options]", kSweepDescription);
   p.option("axis", "KEY=V1,V2,...", "an axis of the sweep (repeat for more)")
       .option("point", "LABEL=PROFILE", "also a listed point: a profile (name, file or auto[:BASE]) as it is (repeat for more)")
       .option("points", "FILE", "a sweep file: {\"axes\": {KEY: [values]}, \"points\": [{label, profile, settings}]}")

@@ -11,7 +11,7 @@ namespace cr {
 
 namespace {
 
-constexpr const char* kExtension = "EXT_meshopt_compression";
+constexpr const char* kMeshoptExtension = "EXT_meshopt_compression";
 
 // What tinygltf reads for a fallback buffer: one zero byte (it rejects empty
 // data URIs). Nothing reads it: every view of the buffer is repointed.
@@ -20,7 +20,7 @@ constexpr const char* kPlaceholderUri = "data:application/octet-stream;base64,AA
 const nlohmann::json* extension_of(const nlohmann::json& object) {
   auto ext = object.find("extensions");
   if (ext == object.end()) return nullptr;
-  auto it = ext->find(kExtension);
+  auto it = ext->find(kMeshoptExtension);
   return it == ext->end() ? nullptr : &*it;
 }
 
@@ -84,7 +84,7 @@ class ViewParser {
 
  private:
   [[noreturn]] void fail(const std::string& what) const {
-    throw InputError(path_, label_ + " " + kExtension + ": " + what);
+    throw InputError(path_, label_ + " " + kMeshoptExtension + ": " + what);
   }
 
   uint64_t uint_field(const nlohmann::json& ext, const char* name, bool required) const {
@@ -162,7 +162,7 @@ MeshoptDocument prepare_meshopt_compression(const std::string& path, nlohmann::j
     if (!ext || !ext->contains("fallback")) continue;
     const nlohmann::json& flag = (*ext)["fallback"];
     if (!flag.is_boolean()) {
-      throw InputError(path, "buffers[" + std::to_string(b) + "] " + kExtension + ": fallback must be a boolean, found " +
+      throw InputError(path, "buffers[" + std::to_string(b) + "] " + kMeshoptExtension + ": fallback must be a boolean, found " +
                                  flag.dump().substr(0, 40));
     }
     if (flag.get<bool>()) fallback.insert(b);
@@ -174,12 +174,12 @@ MeshoptDocument prepare_meshopt_compression(const std::string& path, nlohmann::j
     const uint64_t b = views[i]["buffer"].get<uint64_t>();
     if (fallback.count(b) && !extension_of(views[i])) {
       throw InputError(path, "bufferViews[" + std::to_string(i) + "] reads buffer " + std::to_string(b) + ", an " +
-                                 kExtension + " fallback buffer, but is not compressed (a fallback buffer holds no data)");
+                                 kMeshoptExtension + " fallback buffer, but is not compressed (a fallback buffer holds no data)");
     }
   }
   for (const MeshoptView& v : out.views) {
     if (fallback.count(static_cast<uint64_t>(v.buffer))) {
-      throw InputError(path, "bufferViews[" + std::to_string(v.buffer_view) + "] " + kExtension + ": buffer " +
+      throw InputError(path, "bufferViews[" + std::to_string(v.buffer_view) + "] " + kMeshoptExtension + ": buffer " +
                                  std::to_string(v.buffer) + " is a fallback buffer, which holds no compressed data");
     }
   }
@@ -191,7 +191,7 @@ MeshoptDocument prepare_meshopt_compression(const std::string& path, nlohmann::j
     if (bv == images[i].end() || bv->get<uint64_t>() >= views.size()) continue;
     const uint64_t b = views[bv->get<uint64_t>()]["buffer"].get<uint64_t>();
     if (fallback.count(b)) {
-      throw InputError(path, "images[" + std::to_string(i) + "] reads bufferView " + bv->dump() + " of " + kExtension +
+      throw InputError(path, "images[" + std::to_string(i) + "] reads bufferView " + bv->dump() + " of " + kMeshoptExtension +
                                  " fallback buffer " + std::to_string(b) + "; compressed images are not supported");
     }
   }
@@ -205,7 +205,7 @@ MeshoptDocument prepare_meshopt_compression(const std::string& path, nlohmann::j
 
 void decode_meshopt_buffer_views(const GltfContext& ctx, tinygltf::Model& model, const std::vector<MeshoptView>& views) {
   for (const MeshoptView& v : views) {
-    const std::string label = "bufferView " + std::to_string(v.buffer_view) + " " + kExtension;
+    const std::string label = "bufferView " + std::to_string(v.buffer_view) + " " + kMeshoptExtension;
     if (static_cast<size_t>(v.buffer_view) >= model.bufferViews.size()) {
       ctx.fail(label + ": bufferView out of range (" + std::to_string(model.bufferViews.size()) + " bufferViews)");
     }
@@ -236,7 +236,7 @@ void decode_meshopt_buffer_views(const GltfContext& ctx, tinygltf::Model& model,
     tinygltf::BufferView& view = model.bufferViews[v.buffer_view];
     view.buffer = static_cast<int>(model.buffers.size()) - 1;
     view.byteOffset = 0;
-    view.extensions.erase(kExtension);
+    view.extensions.erase(kMeshoptExtension);
   }
 }
 

@@ -22,7 +22,7 @@ const glm::vec3 kSun(0.8f, 0.35f, 0.2f);
 constexpr float kSunLux = 1e5f, kAmbient = 1e3f;
 const glm::vec3 kBackground(3000.0f);  // the sky behind the fog (cd/m^2)
 
-double ms_since(std::chrono::steady_clock::time_point t0) {
+double stability_ms_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
@@ -101,7 +101,7 @@ FogStabilityCell evaluate_fog_stability(const FogStabilityCase& c, const FogStab
       ++with_history;
     }
   }
-  cell.passes_ms = ms_since(t0) / double(c.frames);
+  cell.passes_ms = stability_ms_since(t0) / double(c.frames);
   if (with_history > 0) {
     cell.history_rejected /= with_history;
     cell.history_clamped /= with_history;
@@ -114,7 +114,7 @@ FogStabilityCell evaluate_fog_stability(const FogStabilityCase& c, const FogStab
     return render_fog_reference(scene, profile.fog_distance, camera, w, h, light, shadow, distance, samples, jobs);
   };
   const FogReferenceImage ref = reference(options.samples);
-  cell.ref_ms = ms_since(r0);
+  cell.ref_ms = stability_ms_since(r0);
   const FogReferenceImage coarse = reference(std::max(1, options.samples / 2));
   const std::vector<glm::vec3> truth = composited(ref);
   cell.non_finite_reference = count_non_finite(truth);

@@ -136,7 +136,7 @@ class Quadtree {
   std::set<NodeKey> internal_;
 };
 
-glm::vec3 mix(const glm::vec3& a, const glm::vec3& b, double t) {
+glm::vec3 blend(const glm::vec3& a, const glm::vec3& b, double t) {
   return a + (b - a) * static_cast<float>(t);
 }
 
@@ -150,7 +150,7 @@ glm::vec3 far_albedo(double x, double z, double height, double normal_y, const g
   const double forest_w = smoothstep(120.0, 450.0, height + 300.0 * n) * (1.0 - smoothstep(1100.0, 1400.0, height));
   const double rock_w = std::max(smoothstep(0.85, 0.6, normal_y), smoothstep(1000.0, 1500.0, height + 400.0 * n));
   const double snow_w = smoothstep(1450.0, 1800.0, height + 500.0 * n) * smoothstep(0.5, 0.75, normal_y);
-  return mix(mix(mix(grass, forest, forest_w), rock, rock_w), snow, snow_w);
+  return blend(blend(blend(grass, forest, forest_w), rock, rock_w), snow, snow_w);
 }
 
 class ChunkBuilder {

@@ -22,7 +22,7 @@ namespace fx = cr::fx;
 namespace {
 
 // Lattice lo, lo + step, ... up to hi, plus the corners.
-std::vector<int32_t> lattice(int32_t lo, int32_t hi, int32_t step, std::initializer_list<int32_t> corners) {
+std::vector<int32_t> simd_lattice(int32_t lo, int32_t hi, int32_t step, std::initializer_list<int32_t> corners) {
   std::vector<int32_t> v(corners);
   for (int32_t i = lo; i <= hi; i += step) v.push_back(i);
   return v;
@@ -96,7 +96,7 @@ int check_encode(const std::vector<float>& xs) {
 }  // namespace
 
 TEST_CASE("simd lerp_q15 and mul_round_q15, 8 and 16 lanes: every w for (a, b) on a lattice") {
-  const std::vector<int32_t> ends = lattice(0, 32767, 4095, {1, 2, 16383, 16384, 16385, 32765, 32766, 32767});
+  const std::vector<int32_t> ends = simd_lattice(0, 32767, 4095, {1, 2, 16383, 16384, 16385, 32765, 32766, 32767});
   std::vector<int32_t> every_w(32768), a(32768), b(32768);
   for (int32_t w = 0; w <= 32767; ++w) every_w[w] = w;
   int bad = 0;
@@ -111,8 +111,8 @@ TEST_CASE("simd lerp_q15 and mul_round_q15, 8 and 16 lanes: every w for (a, b) o
 
 TEST_CASE("simd lerp_q15: every a against a lattice of b and w") {
   std::vector<int32_t> b, w;
-  for (int32_t eb : lattice(0, 32767, 2039, {32767}))
-    for (int32_t ew : lattice(0, 32767, 4093, {1, 16384, 32767})) {
+  for (int32_t eb : simd_lattice(0, 32767, 2039, {32767}))
+    for (int32_t ew : simd_lattice(0, 32767, 4093, {1, 16384, 32767})) {
       b.push_back(eb);
       w.push_back(ew);
     }
@@ -124,7 +124,7 @@ TEST_CASE("simd lerp_q15: every a against a lattice of b and w") {
 TEST_CASE("simd mul_round_q15 over the whole int16 range, and lerp_q15 on random inputs") {
   // Every a against a lattice of b, the -32768 * -32768 wrap included
   // (lerp_q15 gets them too: outside 0..32767 both wrap the same way).
-  const std::vector<int32_t> b = lattice(-32768, 32767, 1021, {-32768, -32767, -1, 0, 1, 32767});
+  const std::vector<int32_t> b = simd_lattice(-32768, 32767, 1021, {-32768, -32767, -1, 0, 1, 32767});
   int bad = 0;
   for (int32_t a = -32768; a <= 32767; ++a) bad += check_lanes(std::vector<int32_t>(b.size(), a), b, b);
   CHECK(bad == 0);

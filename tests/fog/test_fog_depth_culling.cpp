@@ -13,18 +13,18 @@ using namespace cr::fog_test;
 
 namespace {
 
-constexpr int kW = 96, kH = 64;
-const glm::vec3 kSun(0.8f, 0.35f, 0.2f);
+constexpr int kCullW = 96, kCullH = 64;
+const glm::vec3 kCullSun(0.8f, 0.35f, 0.2f);
 
 // Sky in the top quarter, "ground" below whose distance shrinks towards the
 // bottom rows, and a near block (a wall 4 m away) on the left.
 std::vector<float> ground_distances() {
-  std::vector<float> d(size_t(kW) * kH);
-  for (int y = 0; y < kH; ++y)
-    for (int x = 0; x < kW; ++x) {
-      float v = y < kH / 4 ? INFINITY : 2.0f + 24.0f * float(kH - y) / float(kH);
+  std::vector<float> d(size_t(kCullW) * kCullH);
+  for (int y = 0; y < kCullH; ++y)
+    for (int x = 0; x < kCullW; ++x) {
+      float v = y < kCullH / 4 ? INFINITY : 2.0f + 24.0f * float(kCullH - y) / float(kCullH);
       if (x < 20 && y > 10) v = 4.0f;
-      d[size_t(y) * kW + x] = v;
+      d[size_t(y) * kCullW + x] = v;
     }
   return d;
 }
@@ -73,7 +73,7 @@ void cull_by_definition(const FroxelGrid& g, const std::vector<float>& distance,
 }  // namespace
 
 TEST_CASE("depth culling matches its definition (partial tiles, sky, NaN, signed zeros, any thread count)") {
-  const Camera cam = camera_at({0, 3, 10}, {1, 2, -10}, kW, kH);
+  const Camera cam = camera_at({0, 3, 10}, {1, 2, -10}, kCullW, kCullH);
   // Sizes that leave partial tiles on the right and bottom edges, and a single column of tiles.
   const int sizes[][3] = {{101, 45, 8}, {37, 29, 4}, {6, 21, 8}, {23, 1, 3}};
   std::mt19937 rng(7);
@@ -107,11 +107,11 @@ TEST_CASE("depth culling skips hidden froxels and leaves the image bit-identical
   p.froxel_size_px = 4;
   p.slices = 32;
   p.fog_distance = 48.0f;
-  const Camera cam = camera_at({0, 3, 10}, {1, 2, -10}, kW, kH);
-  const LightEnvironment l = light(kSun, 10000.0f, 50.0f);
-  const ShadowMap shadow = wall_shadow(cam, kSun);
+  const Camera cam = camera_at({0, 3, 10}, {1, 2, -10}, kCullW, kCullH);
+  const LightEnvironment l = light(kCullSun, 10000.0f, 50.0f);
+  const ShadowMap shadow = wall_shadow(cam, kCullSun);
   const std::vector<float> distance = ground_distances();
-  const FrameView view = frame_view(cam, cam, 0, false, kW, kH);
+  const FrameView view = frame_view(cam, cam, 0, false, kCullW, kCullH);
   FroxelFog culled(p, scene()), full(p, scene());
   const auto a = composite(culled, view, l, shadow, jobs, distance, glm::vec3(1.0f), true);
   const auto b = composite(full, view, l, shadow, jobs, distance, glm::vec3(1.0f), false);
@@ -130,7 +130,7 @@ TEST_CASE("depth culling with history: culled froxels are never reprojected as h
   FogProfileSettings p;
   p.slices = 32;
   p.fog_distance = 48.0f;
-  const LightEnvironment l = light(kSun, 10000.0f, 50.0f);
+  const LightEnvironment l = light(kCullSun, 10000.0f, 50.0f);
   const std::vector<float> distance = ground_distances();
   FroxelFog culled(p, scene()), full(p, scene());
   Camera prev;
@@ -138,9 +138,9 @@ TEST_CASE("depth culling with history: culled froxels are never reprojected as h
   for (int f = 0; f < 10; ++f) {
     // The camera strafes, so history is read across the culled boundary.
     const glm::dvec3 pos(-2.0 + 0.4 * f, 3.0, 10.0);
-    const Camera cam = camera_at(pos, pos + glm::dvec3(0.1, -0.05, -1.0), kW, kH);
-    const ShadowMap shadow = wall_shadow(cam, kSun);
-    const FrameView view = frame_view(cam, f ? prev : cam, f, f > 0, kW, kH);
+    const Camera cam = camera_at(pos, pos + glm::dvec3(0.1, -0.05, -1.0), kCullW, kCullH);
+    const ShadowMap shadow = wall_shadow(cam, kCullSun);
+    const FrameView view = frame_view(cam, f ? prev : cam, f, f > 0, kCullW, kCullH);
     const auto a = composite(culled, view, l, shadow, jobs, distance, glm::vec3(1.0f), true);
     const auto b = composite(full, view, l, shadow, jobs, distance, glm::vec3(1.0f), false);
     for (const glm::vec3& c : a)

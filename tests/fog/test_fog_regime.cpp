@@ -12,8 +12,8 @@ using namespace cr::fog_test;
 
 namespace {
 
-constexpr int kW = 64, kH = 48;
-const glm::vec3 kSun(0.8f, 0.35f, 0.2f);
+constexpr int kRegimeW = 64, kRegimeH = 48;
+const glm::vec3 kRegimeSun(0.8f, 0.35f, 0.2f);
 
 FogProfileSettings small_profile(bool still_accumulation = true) {
   FogProfileSettings p;
@@ -25,8 +25,8 @@ FogProfileSettings small_profile(bool still_accumulation = true) {
 
 // Renders one frame of `fog` from `cam` (the last frame's camera `prev`).
 void frame(FroxelFog& fog, const Camera& cam, const Camera& prev, int f, JobSystem& jobs) {
-  composite(fog, frame_view(cam, prev, f, f > 0, kW, kH), light(kSun, 10000.0f, 50.0f), wall_shadow(cam, kSun), jobs,
-            std::vector<float>(size_t(kW) * kH, INFINITY), glm::vec3(0.0f));
+  composite(fog, frame_view(cam, prev, f, f > 0, kRegimeW, kRegimeH), light(kRegimeSun, 10000.0f, 50.0f), wall_shadow(cam, kRegimeSun), jobs,
+            std::vector<float>(size_t(kRegimeW) * kRegimeH, INFINITY), glm::vec3(0.0f));
 }
 
 void check_stats_agree(const FroxelFog& fog) {
@@ -42,8 +42,8 @@ void check_stats_agree(const FroxelFog& fog) {
 
 TEST_CASE("a still view goes through the regimes in order; a move, a cut or no accumulation leave them") {
   JobSystem jobs(2);
-  const Camera cam = camera_at({-6, 3, 20}, {2, 4, -10}, kW, kH);
-  const Camera moved = camera_at({-6, 3, 20.5}, {2, 4, -10}, kW, kH);
+  const Camera cam = camera_at({-6, 3, 20}, {2, 4, -10}, kRegimeW, kRegimeH);
+  const Camera moved = camera_at({-6, 3, 20.5}, {2, 4, -10}, kRegimeW, kRegimeH);
   FroxelFog fog(small_profile(), uniform_fog(0.04f, glm::vec3(0.9f)));
   // Frame 0 has no history; frames 1-7 collect the seven jitter phases; from
   // frame 8 their mean stands in; at frame 35 the rest is under 1/64: frozen.

@@ -16,7 +16,7 @@ using namespace cr::fog_test;
 
 namespace {
 
-constexpr int kW = 40, kH = 24;
+constexpr int kStabilityW = 40, kStabilityH = 24;
 constexpr float kSunLux = 1e5f, kAmbient = 1e3f;
 constexpr FogPrecision kPrecisions[] = {FogPrecision::Float, FogPrecision::Fixed};
 
@@ -64,7 +64,7 @@ void check_image(const std::vector<glm::vec3>& img) {
 }
 
 std::vector<float> mixed_distances() {
-  std::vector<float> d(size_t(kW) * kH);
+  std::vector<float> d(size_t(kStabilityW) * kStabilityH);
   const float values[] = {0.0f, 0.01f, 0.1f, 0.5f, 3.0f, 30.0f, 1e4f, INFINITY, NAN};
   for (size_t i = 0; i < d.size(); ++i) d[i] = values[i % 9];
   return d;
@@ -74,7 +74,7 @@ std::vector<float> mixed_distances() {
 
 TEST_CASE("stability sweep: extinction, anisotropy and phase") {
   JobSystem jobs(2);
-  const Camera cam = camera_at({0, 2, 5}, {0, 2, -10}, kW, kH);
+  const Camera cam = camera_at({0, 2, 5}, {0, 2, -10}, kStabilityW, kStabilityH);
   const glm::vec3 sun(0.2f, 0.5f, -0.8f);  // looking almost into the sun: the phase peak
   const ShadowMap shadow = wall_shadow(cam, sun);
   // 1e-30 and 1000 /m: the extinctions of the longest and shortest mean free
@@ -94,7 +94,7 @@ TEST_CASE("stability sweep: extinction, anisotropy and phase") {
           FroxelFog fog(p, s);
           Camera prev = cam;
           for (int f = 0; f < 2; ++f) {
-            const auto img = composite(fog, frame_view(cam, prev, f, f > 0, kW, kH), light(sun, kSunLux, kAmbient), shadow,
+            const auto img = composite(fog, frame_view(cam, prev, f, f > 0, kStabilityW, kStabilityH), light(sun, kSunLux, kAmbient), shadow,
                                        jobs, mixed_distances(), glm::vec3(1.0f));
             check_image(img);
             check_bounded(fog, phase, g);
@@ -134,9 +134,9 @@ TEST_CASE("stability: camera inside volumes, volumes crossing the near plane, ze
     for (int f = 0; f < 6; ++f) {
       // Frames 0-2 inside the first volume; frame 3 cuts far away; 4-5 move fast.
       const glm::dvec3 pos = f < 3 ? glm::dvec3(0.1 * f, 2, 5) : glm::dvec3(40.0 * f, 30, 80);
-      const Camera cam = camera_at(pos, pos + glm::dvec3(0.1, -0.05, -1), kW, kH);
+      const Camera cam = camera_at(pos, pos + glm::dvec3(0.1, -0.05, -1), kStabilityW, kStabilityH);
       const bool cut = f == 0 || f == 3;
-      const auto img = composite(fog, frame_view(cam, cut ? cam : prev, f, !cut, kW, kH), light(sun, kSunLux, kAmbient),
+      const auto img = composite(fog, frame_view(cam, cut ? cam : prev, f, !cut, kStabilityW, kStabilityH), light(sun, kSunLux, kAmbient),
                                  wall_shadow(cam, sun), jobs, mixed_distances(), glm::vec3(0.5f));
       check_image(img);
       check_bounded(fog, FogPhase::HenyeyGreenstein, 0.9f);
@@ -149,7 +149,7 @@ TEST_CASE("stability: camera inside volumes, volumes crossing the near plane, ze
 
 TEST_CASE("stability: a long still view, then a sun that jumps every frame") {
   JobSystem jobs(2);
-  const Camera cam = camera_at({0, 2, 5}, {0, 2, -10}, kW, kH);
+  const Camera cam = camera_at({0, 2, 5}, {0, 2, -10}, kStabilityW, kStabilityH);
   for (FogPrecision precision : kPrecisions)
     for (float extinction : {1e-4f, 10.0f}) {
       CAPTURE(precision);
@@ -165,7 +165,7 @@ TEST_CASE("stability: a long still view, then a sun that jumps every frame") {
         const float a = glm::radians(f < 16 ? 10.0f : 10.0f + 40.0f * float(f - 15));
         const glm::vec3 sun = glm::normalize(glm::vec3(std::sin(a), 0.4f, -std::cos(a)));
         const ShadowMap shadow = wall_shadow(cam, sun);
-        const auto img = composite(fog, frame_view(cam, cam, f, f > 0, kW, kH), light(sun, kSunLux, kAmbient), shadow,
+        const auto img = composite(fog, frame_view(cam, cam, f, f > 0, kStabilityW, kStabilityH), light(sun, kSunLux, kAmbient), shadow,
                                    jobs, mixed_distances(), glm::vec3(1.0f), true, &previous);
         check_image(img);
         check_bounded(fog, FogPhase::HenyeyGreenstein, 0.99f);
@@ -184,7 +184,7 @@ TEST_CASE("stability: a long still view, then a sun that jumps every frame") {
 // of wrapping, and stay there along the column.
 TEST_CASE("stability: dense fog, long columns and a sun past hdr16's range, at both precisions") {
   JobSystem jobs(2);
-  const Camera cam = camera_at({0, 2, 5}, {0, 2, -10}, kW, kH);
+  const Camera cam = camera_at({0, 2, 5}, {0, 2, -10}, kStabilityW, kStabilityH);
   const glm::vec3 sun(0.2f, 0.5f, -0.8f);
   const ShadowMap shadow = wall_shadow(cam, sun);
   struct Case {
@@ -206,7 +206,7 @@ TEST_CASE("stability: dense fog, long columns and a sun past hdr16's range, at b
       p.precision = precision;
       FroxelFog fog(p, uniform_fog(c.extinction, glm::vec3(1.0f), 0.99f));
       for (int f = 0; f < 2; ++f) {
-        const auto img = composite(fog, frame_view(cam, cam, f, f > 0, kW, kH), light(sun, c.sun_lux, kAmbient),
+        const auto img = composite(fog, frame_view(cam, cam, f, f > 0, kStabilityW, kStabilityH), light(sun, c.sun_lux, kAmbient),
                                    shadow, jobs, mixed_distances(), glm::vec3(1.0f));
         check_image(img);
         check_bounded(fog, FogPhase::HenyeyGreenstein, 0.99f, c.sun_lux);

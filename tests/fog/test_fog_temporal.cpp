@@ -16,7 +16,7 @@ using namespace cr::fog_test;
 
 namespace {
 
-constexpr int kW = 96, kH = 64;
+constexpr int kTemporalW = 96, kTemporalH = 64;
 const glm::vec3 kSun(0.8f, 0.35f, 0.2f);
 
 FogProfileSettings profile(bool reprojection, bool clamp = true, bool light_change_rejection = true) {
@@ -29,11 +29,11 @@ FogProfileSettings profile(bool reprojection, bool clamp = true, bool light_chan
   return p;
 }
 
-std::vector<float> sky_distances() { return std::vector<float>(size_t(kW) * kH, INFINITY); }
+std::vector<float> sky_distances() { return std::vector<float>(size_t(kTemporalW) * kTemporalH, INFINITY); }
 
 // The still views' camera, its shadow map and light.
 struct StillView {
-  Camera cam = camera_at({-6, 3, 20}, {2, 4, -10}, kW, kH);
+  Camera cam = camera_at({-6, 3, 20}, {2, 4, -10}, kTemporalW, kTemporalH);
   ShadowMap shadow = wall_shadow(cam, kSun);
   LightEnvironment light = cr::fog_test::light(kSun, 10000.0f, 50.0f);
 };
@@ -85,18 +85,18 @@ TEST_CASE("reprojection of a static view converges to the non-temporal many-samp
     // the still view's accumulation drops the filter.
     const bool filter = !accumulate;
     const std::vector<glm::vec3> reference =
-        many_sample(frame_view(cam, cam, 0, false, kW, kH), l, shadow, jobs, filter);
+        many_sample(frame_view(cam, cam, 0, false, kTemporalW, kTemporalH), l, shadow, jobs, filter);
     FogProfileSettings one = profile(false), temporal_profile = profile(true);
     one.filter = filter;
     temporal_profile.still_accumulation = accumulate;
     FroxelFog single(one, uniform_fog(0.04f, glm::vec3(0.9f)));
     const double single_error = mean_relative_error(
-        reference, composite(single, frame_view(cam, cam, 3, false, kW, kH), l, shadow, jobs, sky_distances(), {}));
+        reference, composite(single, frame_view(cam, cam, 3, false, kTemporalW, kTemporalH), l, shadow, jobs, sky_distances(), {}));
     FroxelFog temporal(temporal_profile, uniform_fog(0.04f, glm::vec3(0.9f)));
     double error = 0.0;
     for (int f = 0; f < 42; ++f) {
       const auto out =
-          composite(temporal, frame_view(cam, cam, f, f > 0, kW, kH), l, shadow, jobs, sky_distances(), {});
+          composite(temporal, frame_view(cam, cam, f, f > 0, kTemporalW, kTemporalH), l, shadow, jobs, sky_distances(), {});
       error = mean_relative_error(reference, out);
       if (f > 0) CHECK((temporal.stats().reproject.identity || temporal.stats().lighting_frozen));
       CHECK(temporal.stats().still_frames == f);
@@ -116,9 +116,9 @@ TEST_CASE("reprojection of a static view converges to the non-temporal many-samp
 TEST_CASE("a converged still view keeps its lighting until the camera, the sun or the geometry moves") {
   JobSystem jobs(2);
   const auto [cam, shadow, l] = StillView{};
-  const Camera moved = camera_at({-6, 3, 20.01}, {2, 4, -10}, kW, kH);
+  const Camera moved = camera_at({-6, 3, 20.01}, {2, 4, -10}, kTemporalW, kTemporalH);
   const std::vector<glm::vec3> reference =
-      many_sample(frame_view(cam, cam, 0, false, kW, kH), l, shadow, jobs, /*filter=*/false);
+      many_sample(frame_view(cam, cam, 0, false, kTemporalW, kTemporalH), l, shadow, jobs, /*filter=*/false);
   FroxelFog fog(profile(true), uniform_fog(0.04f, glm::vec3(0.9f)));
   std::vector<glm::vec3> last;
   // Frames 1-7 are still and lit, one jitter phase each; from frame 8 their
@@ -127,7 +127,7 @@ TEST_CASE("a converged still view keeps its lighting until the camera, the sun o
   constexpr int kComplete = 1 + kJitterFrames, kFreeze = kComplete + 27;
   double error_complete = 0.0, error_before = 0.0;
   for (int f = 0; f <= kFreeze + 2; ++f) {
-    const auto out = composite(fog, frame_view(cam, cam, f, f > 0, kW, kH), l, shadow, jobs, sky_distances(), {});
+    const auto out = composite(fog, frame_view(cam, cam, f, f > 0, kTemporalW, kTemporalH), l, shadow, jobs, sky_distances(), {});
     CHECK(fog.stats().jitter_complete == (f >= kComplete));
     CHECK(fog.stats().lighting_frozen == (f >= kFreeze));
     CHECK(fog.stats().volume_kept == (f >= kFreeze));  // the same light: no integration either
@@ -149,7 +149,7 @@ TEST_CASE("a converged still view keeps its lighting until the camera, the sun o
   hazier.sun_at = [](const glm::vec3*, glm::vec3* out, size_t n) { std::fill(out, out + n, glm::vec3(8000.0f)); };
   int f = kFreeze + 3;
   for (const LightEnvironment* other : {&brighter, &std::as_const(hazy), &std::as_const(hazier)}) {
-    const auto out = composite(fog, frame_view(cam, cam, f++, true, kW, kH), *other, shadow, jobs, sky_distances(), {});
+    const auto out = composite(fog, frame_view(cam, cam, f++, true, kTemporalW, kTemporalH), *other, shadow, jobs, sky_distances(), {});
     CHECK(fog.stats().lighting_frozen);
     CHECK_FALSE(fog.stats().volume_kept);
     CHECK(out != last);
@@ -159,19 +159,19 @@ TEST_CASE("a converged still view keeps its lighting until the camera, the sun o
   // are lit: not a still view.
   std::vector<float> wall = sky_distances();
   std::fill(wall.begin(), wall.begin() + wall.size() / 2, 6.0f);
-  composite(fog, frame_view(cam, cam, f++, true, kW, kH), l, shadow, jobs, wall, {});
+  composite(fog, frame_view(cam, cam, f++, true, kTemporalW, kTemporalH), l, shadow, jobs, wall, {});
   CHECK_FALSE(fog.stats().lighting_frozen);
   CHECK(fog.stats().still_frames == 0);
   // A camera move (1 cm) or a sun move thaws it.
-  composite(fog, frame_view(moved, cam, f++, true, kW, kH), l, wall_shadow(moved, kSun), jobs,
+  composite(fog, frame_view(moved, cam, f++, true, kTemporalW, kTemporalH), l, wall_shadow(moved, kSun), jobs,
             sky_distances(), {});
   CHECK_FALSE(fog.stats().lighting_frozen);
   CHECK(fog.stats().still_frames == 0);
   for (int still = 0; still <= kFreeze; ++still)
-    composite(fog, frame_view(moved, moved, f++, true, kW, kH), l, wall_shadow(moved, kSun), jobs, sky_distances(), {});
+    composite(fog, frame_view(moved, moved, f++, true, kTemporalW, kTemporalH), l, wall_shadow(moved, kSun), jobs, sky_distances(), {});
   CHECK(fog.stats().lighting_frozen);
   const glm::vec3 sun2 = glm::normalize(kSun + glm::vec3(0.0f, 0.01f, 0.0f));
-  composite(fog, frame_view(moved, moved, f++, true, kW, kH), light(sun2, 10000.0f, 50.0f),
+  composite(fog, frame_view(moved, moved, f++, true, kTemporalW, kTemporalH), light(sun2, 10000.0f, 50.0f),
             wall_shadow(moved, sun2), jobs, sky_distances(), {});
   CHECK_FALSE(fog.stats().lighting_frozen);
 }
@@ -185,10 +185,10 @@ TEST_CASE("without jitter a still view's one sample is its converged lighting, b
     p->filter = false;
   }
   FroxelFog one(single, uniform_fog(0.04f, glm::vec3(0.9f)));
-  const auto expected = composite(one, frame_view(cam, cam, 0, false, kW, kH), l, shadow, jobs, sky_distances(), {});
+  const auto expected = composite(one, frame_view(cam, cam, 0, false, kTemporalW, kTemporalH), l, shadow, jobs, sky_distances(), {});
   FroxelFog fog(still, uniform_fog(0.04f, glm::vec3(0.9f)));
   for (int f = 0; f < 12; ++f) {
-    const auto out = composite(fog, frame_view(cam, cam, f, f > 0, kW, kH), l, shadow, jobs, sky_distances(), {});
+    const auto out = composite(fog, frame_view(cam, cam, f, f > 0, kTemporalW, kTemporalH), l, shadow, jobs, sky_distances(), {});
     CHECK(fog.stats().jitter_complete == (f >= 2));  // the first still frame's sample covers every phase
     CHECK(out == expected);
   }
@@ -197,20 +197,20 @@ TEST_CASE("without jitter a still view's one sample is its converged lighting, b
 TEST_CASE("a still view voxelises its density once; the kept density is a fresh voxelisation's bits") {
   JobSystem jobs(2);
   const FogSceneSettings scene = noisy_volume_fog();
-  const Camera cam = camera_at({-3, 2, 10}, {0, 2, -10}, kW, kH);
-  const Camera moved = camera_at({-3, 2, 10.01}, {0, 2, -10}, kW, kH);
+  const Camera cam = camera_at({-3, 2, 10}, {0, 2, -10}, kTemporalW, kTemporalH);
+  const Camera moved = camera_at({-3, 2, 10.01}, {0, 2, -10}, kTemporalW, kTemporalH);
   const ShadowMap shadow = wall_shadow(cam, kSun);
   const LightEnvironment l = light(kSun, 10000.0f, 50.0f);
-  std::vector<float> distance(size_t(kW) * kH);
+  std::vector<float> distance(size_t(kTemporalW) * kTemporalH);
   for (size_t i = 0; i < distance.size(); ++i) distance[i] = i % 3 == 0 ? INFINITY : 2.0f + float(i % 50);
   FroxelFog fog(profile(true), scene);
   for (int f = 0; f < 4; ++f) {
-    composite(fog, frame_view(cam, cam, f, f > 0, kW, kH), l, shadow, jobs, distance, {});
+    composite(fog, frame_view(cam, cam, f, f > 0, kTemporalW, kTemporalH), l, shadow, jobs, distance, {});
     CHECK(fog.stats().density_kept == (f > 0));
   }
   // A fresh voxelisation of the same view.
   FroxelFog fresh(profile(false), scene);
-  composite(fresh, frame_view(cam, cam, 3, false, kW, kH), l, shadow, jobs, distance, {});
+  composite(fresh, frame_view(cam, cam, 3, false, kTemporalW, kTemporalH), l, shadow, jobs, distance, {});
   const FroxelGrid& g = fog.grid();
   size_t compared = 0, differing = 0;
   for (size_t c = 0; c < g.columns(); ++c)
@@ -220,13 +220,13 @@ TEST_CASE("a still view voxelises its density once; the kept density is a fresh 
   CHECK(compared > g.count() / 4);
   CHECK(differing == 0);
   // A camera move, or geometry that changes the lit froxels, voxelises again.
-  composite(fog, frame_view(moved, cam, 4, true, kW, kH), l, shadow, jobs, distance, {});
+  composite(fog, frame_view(moved, cam, 4, true, kTemporalW, kTemporalH), l, shadow, jobs, distance, {});
   CHECK_FALSE(fog.stats().density_kept);
-  composite(fog, frame_view(moved, moved, 5, true, kW, kH), l, shadow, jobs, distance, {});
+  composite(fog, frame_view(moved, moved, 5, true, kTemporalW, kTemporalH), l, shadow, jobs, distance, {});
   CHECK(fog.stats().density_kept);
   std::vector<float> nearer = distance;
   for (size_t i = 0; i < nearer.size() / 2; ++i) nearer[i] = 3.0f;
-  composite(fog, frame_view(moved, moved, 6, true, kW, kH), l, shadow, jobs, nearer, {});
+  composite(fog, frame_view(moved, moved, 6, true, kTemporalW, kTemporalH), l, shadow, jobs, nearer, {});
   CHECK_FALSE(fog.stats().density_kept);
 }
 
@@ -236,7 +236,7 @@ TEST_CASE("a still view integrates only the slices whose visibility changed, wit
   FroxelFog fog(profile(true), uniform_fog(0.04f, glm::vec3(0.9f)));
   size_t mismatched = 0, incremental_frames = 0;
   for (int f = 0; f < 40; ++f) {
-    composite(fog, frame_view(cam, cam, f, f > 0, kW, kH), l, shadow, jobs, sky_distances(), {});
+    composite(fog, frame_view(cam, cam, f, f > 0, kTemporalW, kTemporalH), l, shadow, jobs, sky_distances(), {});
     mismatched += volume_mismatches(fog, l, jobs);
     const FroxelFogStats& s = fog.stats();
     // Frame 0 has no history and frame 1 no integration of this view to
@@ -261,7 +261,7 @@ TEST_CASE("with still_settled, a still view lights only its unsettled froxels, a
   double worst = 0.0;
   for (int f = 0; f < 12; ++f) {
     CAPTURE(f);
-    const FrameView view = frame_view(cam, cam, f, f > 0, kW, kH);
+    const FrameView view = frame_view(cam, cam, f, f > 0, kTemporalW, kTemporalH);
     const auto a = composite(settled, view, l, shadow, jobs, sky_distances(), {});
     const auto b = composite(exact, view, l, shadow, jobs, sky_distances(), {});
     worst = std::max(worst, mean_relative_error(b, a));
@@ -283,14 +283,14 @@ TEST_CASE("a still view integrates everything again under another light or after
   JobSystem jobs(2);
   const auto [home, shadow, l] = StillView{};
   const LightEnvironment brighter = light(kSun, 20000.0f, 50.0f);
-  const Camera away = camera_at({-5, 3, 19}, {2, 4, -10}, kW, kH);
+  const Camera away = camera_at({-5, 3, 19}, {2, 4, -10}, kTemporalW, kTemporalH);
   const ShadowMap away_shadow = wall_shadow(away, kSun);
   FroxelFog fog(profile(true), uniform_fog(0.04f, glm::vec3(0.9f)));
   // Frames 0-3 at home, 4 under a brighter sun, 5 away, 6-8 home again.
   Camera prev = home;
   for (int f = 0; f < 9; ++f) {
     const Camera& cam = f == 5 ? away : home;
-    composite(fog, frame_view(cam, prev, f, f > 0, kW, kH), f == 4 ? brighter : l, f == 5 ? away_shadow : shadow, jobs,
+    composite(fog, frame_view(cam, prev, f, f > 0, kTemporalW, kTemporalH), f == 4 ? brighter : l, f == 5 ? away_shadow : shadow, jobs,
               sky_distances(), {});
     prev = cam;
     const FroxelFogStats& s = fog.stats();
@@ -311,7 +311,7 @@ TEST_CASE("whatever came before, a still view settles on the same frame") {
   FroxelFog fresh(profile(true), uniform_fog(0.04f, glm::vec3(0.9f)));
   std::vector<glm::vec3> settled;
   for (int f = 0; f < kSettle; ++f)
-    settled = composite(fresh, frame_view(home, home, f, f > 0, kW, kH), l, home_shadow, jobs, sky_distances(), {});
+    settled = composite(fresh, frame_view(home, home, f, f > 0, kTemporalW, kTemporalH), l, home_shadow, jobs, sky_distances(), {});
   REQUIRE(fresh.stats().lighting_frozen);
   const std::vector<float> sky = sky_distances();
   std::vector<float> wall = sky;
@@ -337,7 +337,7 @@ TEST_CASE("whatever came before, a still view settles on the same frame") {
       const std::vector<float>* distance = &sky;
       const int kind = event(rng);
       fog.set_lighting_samples(kind == 5 ? 3 : 1);
-      if (kind == 0) cam = camera_at({-6 + 4 * unit(rng), 3 + unit(rng), 20 + 4 * unit(rng)}, {2, 4, -10}, kW, kH);
+      if (kind == 0) cam = camera_at({-6 + 4 * unit(rng), 3 + unit(rng), 20 + 4 * unit(rng)}, {2, 4, -10}, kTemporalW, kTemporalH);
       if (kind == 1) sun = other_suns[side(rng)];
       if (kind == 1) lit = light(sun, 10000.0f, 50.0f);
       if (kind == 2) distance = &wall;
@@ -345,7 +345,7 @@ TEST_CASE("whatever came before, a still view settles on the same frame") {
       const ShadowMap shadow = wall_shadow(cam, sun);
       for (int n = length(rng); n > 0; --n, ++f) {
         if (kind == 4 && n % 3 == 0) fog.reset_history();
-        const auto out = composite(fog, frame_view(cam, prev, f, true, kW, kH), lit, shadow, jobs, *distance, {});
+        const auto out = composite(fog, frame_view(cam, prev, f, true, kTemporalW, kTemporalH), lit, shadow, jobs, *distance, {});
         for (const glm::vec3& c : out) REQUIRE(std::isfinite(c.x + c.y + c.z));
         volume_mismatched += volume_mismatches(fog, lit, jobs);
         prev = cam;
@@ -354,7 +354,7 @@ TEST_CASE("whatever came before, a still view settles on the same frame") {
     fog.set_lighting_samples(1);
     std::vector<glm::vec3> out;
     for (int i = 0; i < kSettle; ++i, ++f) {
-      out = composite(fog, frame_view(home, prev, f, true, kW, kH), l, home_shadow, jobs, sky_distances(), {});
+      out = composite(fog, frame_view(home, prev, f, true, kTemporalW, kTemporalH), l, home_shadow, jobs, sky_distances(), {});
       volume_mismatched += volume_mismatches(fog, l, jobs);
       prev = home;
     }
@@ -377,9 +377,9 @@ TEST_CASE("a fast camera path stays within the ghosting bound") {
     // 1.5 m and 3 degrees of yaw per frame (90 m/s, 180 deg/s at 60 Hz).
     const double angle = glm::radians(3.0 * f);
     const glm::dvec3 pos(-10.0 + 1.5 * f, 3.0, 20.0);
-    const Camera cam = camera_at(pos, pos + glm::dvec3(std::sin(angle), 0.05, -std::cos(angle)), kW, kH);
+    const Camera cam = camera_at(pos, pos + glm::dvec3(std::sin(angle), 0.05, -std::cos(angle)), kTemporalW, kTemporalH);
     const ShadowMap shadow = wall_shadow(cam, kSun);
-    const FrameView view = frame_view(cam, f == 0 ? cam : prev, f, f > 0, kW, kH);
+    const FrameView view = frame_view(cam, f == 0 ? cam : prev, f, f > 0, kTemporalW, kTemporalH);
     const auto out = composite(clamped, view, l, shadow, jobs, sky_distances(), {});
     const auto out_unclamped = composite(unclamped, view, l, shadow, jobs, sky_distances(), {});
     const auto reference = many_sample(view, l, shadow, jobs);
@@ -398,7 +398,7 @@ TEST_CASE("a fast camera path stays within the ghosting bound") {
 
 TEST_CASE("a moving light shaft ghosts within the bound") {
   JobSystem jobs(2);
-  const Camera cam = camera_at({-6, 3, 20}, {2, 4, -10}, kW, kH);
+  const Camera cam = camera_at({-6, 3, 20}, {2, 4, -10}, kTemporalW, kTemporalH);
   const FogSceneSettings medium = uniform_fog(0.04f, glm::vec3(0.9f));
   FroxelFog fog(profile(true), medium), blind(profile(true, true, false), medium), single(profile(false), medium);
   ShadowMap previous;
@@ -410,7 +410,7 @@ TEST_CASE("a moving light shaft ghosts within the bound") {
     const glm::vec3 sun(std::cos(a), 0.35f, std::sin(a));
     const ShadowMap shadow = wall_shadow(cam, sun);
     const LightEnvironment l = light(sun, 10000.0f, 50.0f);
-    const FrameView view = frame_view(cam, cam, f, f > 0, kW, kH);
+    const FrameView view = frame_view(cam, cam, f, f > 0, kTemporalW, kTemporalH);
     const auto out = composite(fog, view, l, shadow, jobs, sky_distances(), {}, true, &previous);
     const auto out_blind = composite(blind, view, l, shadow, jobs, sky_distances(), {}, true, &previous);
     const auto out_single = composite(single, view, l, shadow, jobs, sky_distances(), {}, true, &previous);
@@ -436,7 +436,7 @@ TEST_CASE("a previous shadow map under the same sun changes nothing") {
   const FogSceneSettings medium = uniform_fog(0.04f, glm::vec3(0.9f));
   FroxelFog with(profile(true), medium), without(profile(true), medium);
   for (int f = 0; f < 4; ++f) {
-    const FrameView view = frame_view(cam, cam, f, f > 0, kW, kH);
+    const FrameView view = frame_view(cam, cam, f, f > 0, kTemporalW, kTemporalH);
     const auto a = composite(with, view, l, shadow, jobs, sky_distances(), {}, true, &refit);
     const auto b = composite(without, view, l, shadow, jobs, sky_distances(), {});
     CHECK_FALSE(with.stats().light_changed);
@@ -447,15 +447,15 @@ TEST_CASE("a previous shadow map under the same sun changes nothing") {
 TEST_CASE("a camera cut drops the history") {
   JobSystem jobs(1);
   const LightEnvironment l = light(kSun, 10000.0f, 50.0f);
-  const Camera a = camera_at({-6, 3, 20}, {2, 4, -10}, kW, kH);
-  const Camera b = camera_at({30, 3, -20}, {0, 4, 0}, kW, kH);
+  const Camera a = camera_at({-6, 3, 20}, {2, 4, -10}, kTemporalW, kTemporalH);
+  const Camera b = camera_at({30, 3, -20}, {0, 4, 0}, kTemporalW, kTemporalH);
   FroxelFog fog(profile(true), uniform_fog(0.04f, glm::vec3(0.9f)));
-  for (int f = 0; f < 5; ++f) composite(fog, frame_view(a, a, f, f > 0, kW, kH), l, wall_shadow(a, kSun), jobs, sky_distances(), {});
+  for (int f = 0; f < 5; ++f) composite(fog, frame_view(a, a, f, f > 0, kTemporalW, kTemporalH), l, wall_shadow(a, kSun), jobs, sky_distances(), {});
   CHECK(fog.stats().history_used);
   const ShadowMap sb = wall_shadow(b, kSun);
-  const auto cut = composite(fog, frame_view(b, b, 5, false, kW, kH), l, sb, jobs, sky_distances(), {});
+  const auto cut = composite(fog, frame_view(b, b, 5, false, kTemporalW, kTemporalH), l, sb, jobs, sky_distances(), {});
   CHECK_FALSE(fog.stats().history_used);
   FroxelFog fresh(profile(true), uniform_fog(0.04f, glm::vec3(0.9f)));
-  const auto first = composite(fresh, frame_view(b, b, 5, false, kW, kH), l, sb, jobs, sky_distances(), {});
+  const auto first = composite(fresh, frame_view(b, b, 5, false, kTemporalW, kTemporalH), l, sb, jobs, sky_distances(), {});
   CHECK(cut == first);  // nothing of the old view survives the cut
 }

@@ -45,9 +45,10 @@ build_targets() {
   ensure_clang
   local launcher=()
   command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
-  # -O1 -g1 as the sanitizer builds of run_all.sh; no NDEBUG, so assertions are findings too.
+  # -O1 -g1 and unity batches as the sanitizer builds of run_all.sh; no NDEBUG,
+  # so assertions are findings too.
   cmake -S . -B "$build" -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=Fuzz -DCMAKE_CXX_FLAGS="-O1 -g1" \
-        -DCR_FUZZ=ON "${launcher[@]}" >/dev/null
+        -DCMAKE_UNITY_BUILD=ON -DCMAKE_UNITY_BUILD_BATCH_SIZE=8 -DCR_FUZZ=ON "${launcher[@]}" >/dev/null
   cmake --build "$build" -j"${CR_FUZZ_BUILD_JOBS:-$(nproc)}" --target fuzz_targets
   # The seeds are rebuilt every time (a few seconds): new bad inputs join at once.
   tests/fuzz/make_corpus.sh "$build/corpus/seeds" "$build"

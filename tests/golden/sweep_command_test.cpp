@@ -21,7 +21,7 @@ using cr::SweepPoint;
 
 namespace {
 // These sweeps measure no module against its ground truth (sweep_truth_test.cpp does).
-const cr::ModuleTruthRegistry no_truths;
+const cr::ModuleTruthRegistry no_sweep_truths;
 }  // namespace
 
 TEST_CASE("sweep axes: typed values, WxH resolutions, clear errors") {
@@ -66,7 +66,7 @@ TEST_CASE("sweep: a row per point with times and error, the reference rendered o
   const std::vector<std::string> args = {scene,       "--base",   profile, "--axis", "antialiasing=none,msaa4",
                                          "--resolution", "96x54", "--frames", "2",    "--warmup",
                                          "0",           "--threads", "2",   "--out",  out};
-  REQUIRE(cr::sweep_command(args, registry, no_truths) == 0);
+  REQUIRE(cr::sweep_command(args, registry, no_sweep_truths) == 0);
   const nlohmann::json doc = cr::load_json_file(out + "/sweep.json");
   REQUIRE(doc["points"].size() == 2);
   for (const nlohmann::json& row : doc["points"]) {
@@ -92,7 +92,7 @@ TEST_CASE("sweep: a row per point with times and error, the reference rendered o
   std::vector<std::string> more = args;
   more[4] = "antialiasing=none,msaa4,msaa2";
   more.push_back("--resume");
-  REQUIRE(cr::sweep_command(more, registry, no_truths) == 0);
+  REQUIRE(cr::sweep_command(more, registry, no_sweep_truths) == 0);
   const nlohmann::json resumed = cr::load_json_file(out + "/sweep.json");
   REQUIRE(resumed["points"].size() == 3);
   CHECK(resumed["points"][0] == doc["points"][0]);
@@ -102,12 +102,12 @@ TEST_CASE("sweep: a row per point with times and error, the reference rendered o
   // A different sweep in the same directory is refused.
   std::vector<std::string> other = more;
   other[8] = "3";  // --frames 3
-  CHECK_THROWS_AS(cr::sweep_command(other, registry, no_truths), cr::InputError);
+  CHECK_THROWS_AS(cr::sweep_command(other, registry, no_sweep_truths), cr::InputError);
   // No axis, or a key the profile rejects.
-  CHECK_THROWS_AS(cr::sweep_command({scene, "--base", profile, "--out", out}, registry, no_truths), cr::UsageError);
+  CHECK_THROWS_AS(cr::sweep_command({scene, "--base", profile, "--out", out}, registry, no_sweep_truths), cr::UsageError);
   CHECK_THROWS_AS(cr::sweep_command({scene, "--base", profile, "--axis", "no_such_key=1", "--resolution", "32x18",
                                      "--frames", "1", "--warmup", "0", "--out", dir.file("bad")},
-                                    registry, no_truths),
+                                    registry, no_sweep_truths),
                   cr::InputError);
 }
 
@@ -126,7 +126,7 @@ TEST_CASE("sweep listed points: --point LABEL=PROFILE, a sweep file, auto points
   const std::vector<std::string> args = {scene, "--base", profile, "--points", file, "--point", "desktop=" + profile,
                                          "--point", "auto=auto:" + profile, "--plan-table", table, "--resolution", "96x54",
                                          "--frames", "3", "--warmup", "0", "--threads", "2", "--out", out};
-  REQUIRE(cr::sweep_command(args, registry, no_truths) == 0);
+  REQUIRE(cr::sweep_command(args, registry, no_sweep_truths) == 0);
   const nlohmann::json doc = cr::load_json_file(out + "/sweep.json");
   REQUIRE(doc["points"].size() == 3);
   CHECK(doc["points"][0]["label"] == "desktop, no AA");
@@ -147,11 +147,11 @@ TEST_CASE("sweep listed points: --point LABEL=PROFILE, a sweep file, auto points
   const std::string csv = cr::read_file_bytes(out + "/sweep.csv");
   CHECK(csv.find("\ndesktop,") != std::string::npos);
   // A second sweep reads the cached reference (float EXR): the same errors as the render it cached.
-  REQUIRE(cr::sweep_command(args, registry, no_truths) == 0);
+  REQUIRE(cr::sweep_command(args, registry, no_sweep_truths) == 0);
   const nlohmann::json again = cr::load_json_file(out + "/sweep.json");
   for (size_t i = 0; i < 3; ++i) CHECK(again["points"][i]["error"] == doc["points"][i]["error"]);
   // Two points of one name, and keys set on an auto point, are refused.
-  CHECK_THROWS_AS(cr::sweep_command({scene, "--point", "a=desktop", "--point", "a=mobile", "--out", out}, registry, no_truths),
+  CHECK_THROWS_AS(cr::sweep_command({scene, "--point", "a=desktop", "--point", "a=mobile", "--out", out}, registry, no_sweep_truths),
                   cr::UsageError);
   CHECK_THROWS_AS(cr::parse_listed_point("noprofile"), cr::UsageError);
   CHECK_THROWS_AS(cr::parse_sweep_file(nlohmann::json{{"points", {{{"profile", "x"}}}}}, "f.json"), cr::InputError);
@@ -169,7 +169,7 @@ TEST_CASE("sweep --first-frame: points and the reference start cold at that fram
                                          "same=" + profile, "--axis", "antialiasing=none", "--resolution", "64x36",
                                          "--frames", "1", "--warmup", "1", "--threads", "2", "--first-frame", "20",
                                          "--out", out};
-  REQUIRE(cr::sweep_command(args, registry, no_truths) == 0);
+  REQUIRE(cr::sweep_command(args, registry, no_sweep_truths) == 0);
   const nlohmann::json doc = cr::load_json_file(out + "/sweep.json");
   CHECK(doc["first_frame"] == 20);
   REQUIRE(doc["points"].size() == 2);
@@ -183,5 +183,5 @@ TEST_CASE("sweep --first-frame: points and the reference start cold at that fram
   std::vector<std::string> moved = args;
   moved[moved.size() - 3] = "0";
   moved.push_back("--resume");
-  CHECK_THROWS_AS(cr::sweep_command(moved, registry, no_truths), cr::InputError);
+  CHECK_THROWS_AS(cr::sweep_command(moved, registry, no_sweep_truths), cr::InputError);
 }

@@ -10,14 +10,14 @@
 namespace cr {
 namespace {
 
-constexpr int W = 64, H = 48;
+constexpr int kBlendW = 64, kBlendH = 48;
 
 Primitive rect(float x0, float y0, float x1, float y1, float z) {
   return test::make_primitive({{x0, y0, z}, {x1, y0, z}, {x1, y1, z}, {x0, y1, z}}, {0, 1, 2, 0, 2, 3});
 }
 
 TEST_CASE("blended fragments arrive per pixel in the given order and only in front of opaque depth") {
-  const glm::mat4 m = test::pixel_to_clip(W, H);
+  const glm::mat4 m = test::pixel_to_clip(kBlendW, kBlendH);
   const Primitive opaque = rect(0, 0, 32, 48, 0.5f);
   const Primitive b0 = rect(4, 4, 60, 44, 0.3f), b1 = rect(4, 4, 60, 44, 0.7f), b2 = rect(4, 4, 60, 44, 0.6f);
   const RasterDraw opaque_draw = test::draw_of(opaque, m, 0);
@@ -26,17 +26,17 @@ TEST_CASE("blended fragments arrive per pixel in the given order and only in fro
     CAPTURE(threads);
     JobSystem jobs(threads);
     TiledRasterizer r;
-    r.render_visibility(jobs, W, H, 16, {&opaque_draw, 1});
-    std::vector<std::vector<uint32_t>> seen(W * H);
+    r.render_visibility(jobs, kBlendW, kBlendH, 16, {&opaque_draw, 1});
+    std::vector<std::vector<uint32_t>> seen(kBlendW * kBlendH);
     int bad_weights = 0;
     const RasterStats& stats = r.render_blended(jobs, blended, [&](int x, int y, uint32_t id, const Barycentrics& b, float) {
-      seen[size_t(y) * W + x].push_back(r.ref(id).draw_index);
+      seen[size_t(y) * kBlendW + x].push_back(r.ref(id).draw_index);
       bad_weights += std::abs(b.b.x + b.b.y + b.b.z - 1.0f) > 1e-5f;
     });
     CHECK(bad_weights == 0);
-    CHECK(seen[size_t(10) * W + 10] == std::vector<uint32_t>{11, 12});      // behind opaque: b0 hidden
-    CHECK(seen[size_t(10) * W + 40] == std::vector<uint32_t>{10, 11, 12});  // no opaque
-    CHECK(seen[size_t(1) * W + 40].empty());
+    CHECK(seen[size_t(10) * kBlendW + 10] == std::vector<uint32_t>{11, 12});      // behind opaque: b0 hidden
+    CHECK(seen[size_t(10) * kBlendW + 40] == std::vector<uint32_t>{10, 11, 12});  // no opaque
+    CHECK(seen[size_t(1) * kBlendW + 40].empty());
     CHECK(stats.pixels_passed == uint64_t(28 * 40 * 2 + 28 * 40 * 3));
     // The opaque visibility (and its ids) are untouched by the blended pass.
     CHECK(r.ref(r.visibility().triangle[r.visibility().index(10, 10)]).draw_index == 0);
@@ -77,13 +77,13 @@ TEST_CASE("depth-only pass renders both faces with the same fill and depth as th
 }
 
 TEST_CASE("statistics count triangles, tile pairs and pixels") {
-  const glm::mat4 m = test::pixel_to_clip(W, H);
+  const glm::mat4 m = test::pixel_to_clip(kBlendW, kBlendH);
   const Primitive a = rect(8, 8, 40, 24, 0.5f);    // 32 x 16 samples, spans tiles (0..2, 0..1) of 16
   const Primitive hidden = rect(8, 8, 24, 24, 0.25f);  // behind a
   const RasterDraw draws[] = {test::draw_of(a, m, 0), test::draw_of(hidden, m, 1)};
   JobSystem jobs(2);
   TiledRasterizer r;
-  const RasterStats& s = r.render_visibility(jobs, W, H, 16, draws);
+  const RasterStats& s = r.render_visibility(jobs, kBlendW, kBlendH, 16, draws);
   CHECK(s.triangles_in == 4);
   CHECK(s.triangles_visible == 4);
   CHECK(s.screen_triangles == 4);

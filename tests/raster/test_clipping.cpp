@@ -8,7 +8,7 @@
 namespace cr {
 namespace {
 
-constexpr int W = 160, H = 120;
+constexpr int kClipW = 160, kClipH = 120;
 
 struct CoverageCheck {
   int expected_covered = 0;
@@ -25,12 +25,12 @@ CoverageCheck render_and_compare(const Camera& cam, const glm::vec3 (&v)[3], Ras
   const RasterDraw draw = test::draw_of(p, test::world_to_clip(cam), 0);
   JobSystem jobs(2);
   TiledRasterizer r;
-  const RasterStats& stats = r.render_visibility(jobs, W, H, 16, {&draw, 1});
+  const RasterStats& stats = r.render_visibility(jobs, kClipW, kClipH, 16, {&draw, 1});
   if (stats_out) *stats_out = stats;
   CoverageCheck out;
-  for (int y = 0; y < H; ++y)
-    for (int x = 0; x < W; ++x) {
-      const glm::dvec3 d(cam.ray_direction(x + 0.5f, y + 0.5f, W, H));
+  for (int y = 0; y < kClipH; ++y)
+    for (int x = 0; x < kClipW; ++x) {
+      const glm::dvec3 d(cam.ray_direction(x + 0.5f, y + 0.5f, kClipW, kClipH));
       const auto hit = test::intersect_plane(cam.position, d, v[0], v[1], v[2]);
       bool expected = false;
       double depth = 0.0;
@@ -50,7 +50,7 @@ CoverageCheck render_and_compare(const Camera& cam, const glm::vec3 (&v)[3], Ras
   return out;
 }
 
-const Camera kCamera = Camera::look_at({0.0, 0.0, 0.0}, {0.0, 0.0, -1.0}, 1.2f, float(W) / H, 0.1f);
+const Camera kCamera = Camera::look_at({0.0, 0.0, 0.0}, {0.0, 0.0, -1.0}, 1.2f, float(kClipW) / kClipH, 0.1f);
 
 TEST_CASE("triangle crossing the near plane covers exactly its part in front") {
   // Lies almost in the view direction: starts 5 cm in front of the camera

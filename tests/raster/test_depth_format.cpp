@@ -13,7 +13,7 @@
 namespace cr {
 namespace {
 
-constexpr int W = 96, H = 64;
+constexpr int kFormatW = 96, kFormatH = 64;
 
 // A wall facing a camera at the origin looking down -Z, `distance` metres away, covering the view.
 Primitive wall(float distance) {
@@ -34,13 +34,13 @@ float quantized(float z, span8::F (*format)(span8::F)) {
 
 // Pixels of the nearer wall when the farther one is drawn first.
 int nearer_visible(DepthFormat format, float near_distance, float gap) {
-  const Camera cam = Camera::look_at(glm::dvec3(0.0), glm::dvec3(0.0, 0.0, -1.0), 1.0471976f, float(W) / float(H), 0.1f);
+  const Camera cam = Camera::look_at(glm::dvec3(0.0), glm::dvec3(0.0, 0.0, -1.0), 1.0471976f, float(kFormatW) / float(kFormatH), 0.1f);
   const glm::mat4 m = test::world_to_clip(cam);
   const Primitive far_wall = wall(near_distance + gap), near_wall = wall(near_distance);
   const RasterDraw draws[] = {test::draw_of(far_wall, m, 0), test::draw_of(near_wall, m, 1)};
   JobSystem jobs(2);
   TiledRasterizer r;
-  r.render_visibility(jobs, W, H, 16, draws, {}, 1, format);
+  r.render_visibility(jobs, kFormatW, kFormatH, 16, draws, {}, 1, format);
   int nearer = 0;
   for (uint32_t id : r.visibility().triangle) nearer += id != kNoTriangle && r.ref(id).draw_index == 1 ? 1 : 0;
   return nearer;
@@ -71,7 +71,7 @@ TEST_CASE("depth formats: values land on their grid, rounding is monotone and ke
 }
 
 TEST_CASE("depth formats: two walls 100 m apart at 30 km: float32 and float24 keep their order, unorm24 ties") {
-  const int all = W * H;
+  const int all = kFormatW * kFormatH;
   CHECK(nearer_visible(DepthFormat::Float32, 30000.0f, 100.0f) == all);
   CHECK(nearer_visible(DepthFormat::Float24, 30000.0f, 100.0f) == all);
   // A unorm24 step at 30 km is about 540 m: both walls round to the same depth,

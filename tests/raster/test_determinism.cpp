@@ -8,13 +8,13 @@
 namespace cr {
 namespace {
 
-constexpr int W = 300, H = 200;
+constexpr int kDetW = 300, kDetH = 200;
 
 // Overlapping random triangles in a perspective view: many depth ties near
 // edges, clipped triangles, alpha-masked draws.
 struct RandomScene {
   Primitive a, b;
-  Camera cam = Camera::look_at({0.0, 1.0, 3.0}, {0.0, 0.0, -5.0}, 1.1f, float(W) / H, 0.1f);
+  Camera cam = Camera::look_at({0.0, 1.0, 3.0}, {0.0, 0.0, -5.0}, 1.1f, float(kDetW) / kDetH, 0.1f);
 
   explicit RandomScene(uint64_t seed) {
     test::Random rng(seed);
@@ -49,9 +49,9 @@ TEST_CASE("visibility buffer is bit-identical for 1, 2, 3, 8 threads and tile si
 
   TiledRasterizer reference;
   JobSystem one(1);
-  const RasterStats ref_stats = reference.render_visibility(one, W, H, 64, draws, coverage);
+  const RasterStats ref_stats = reference.render_visibility(one, kDetW, kDetH, 64, draws, coverage);
   CHECK(ref_stats.triangles_clipped > 0);
-  CHECK(ref_stats.pixels_passed > uint64_t(W * H));
+  CHECK(ref_stats.pixels_passed > uint64_t(kDetW * kDetH));
 
   for (unsigned threads : {1u, 2u, 3u, 8u}) {
     JobSystem jobs(threads);
@@ -59,7 +59,7 @@ TEST_CASE("visibility buffer is bit-identical for 1, 2, 3, 8 threads and tile si
       CAPTURE(threads);
       CAPTURE(tile);
       TiledRasterizer r;
-      const RasterStats& stats = r.render_visibility(jobs, W, H, tile, draws, coverage);
+      const RasterStats& stats = r.render_visibility(jobs, kDetW, kDetH, tile, draws, coverage);
       CHECK(same_bits(r.visibility(), reference.visibility()));
       CHECK(stats.pixels_covered == ref_stats.pixels_covered);
       CHECK(stats.pixels_passed == ref_stats.pixels_passed);
@@ -72,9 +72,9 @@ TEST_CASE("a rasterizer reused across frames gives the same result as a fresh on
   JobSystem jobs(3);
   TiledRasterizer reused, fresh;
   const CoverageFn coverage = [](uint32_t, const Barycentrics& b) { return b.b.x > 0.2f; };
-  reused.render_visibility(jobs, W, H, 32, first.draws(), coverage);
-  reused.render_visibility(jobs, W / 2, H, 16, second.draws(), coverage);
-  fresh.render_visibility(jobs, W / 2, H, 16, second.draws(), coverage);
+  reused.render_visibility(jobs, kDetW, kDetH, 32, first.draws(), coverage);
+  reused.render_visibility(jobs, kDetW / 2, kDetH, 16, second.draws(), coverage);
+  fresh.render_visibility(jobs, kDetW / 2, kDetH, 16, second.draws(), coverage);
   CHECK(same_bits(reused.visibility(), fresh.visibility()));
 }
 
@@ -86,8 +86,8 @@ TEST_CASE("coverage callbacks may use the job system while tiles are rasterised"
   const auto keep = [](const Barycentrics& b) { return b.b.z < 0.7f; };
   JobSystem jobs(3);
   TiledRasterizer plain, nested;
-  plain.render_visibility(jobs, W, H, 16, draws, [&](uint32_t, const Barycentrics& b) { return keep(b); });
-  nested.render_visibility(jobs, W, H, 16, draws, [&](uint32_t, const Barycentrics& b) {
+  plain.render_visibility(jobs, kDetW, kDetH, 16, draws, [&](uint32_t, const Barycentrics& b) { return keep(b); });
+  nested.render_visibility(jobs, kDetW, kDetH, 16, draws, [&](uint32_t, const Barycentrics& b) {
     jobs.parallel_for("inner", 2, 1, [](size_t, size_t) {});
     return keep(b);
   });

@@ -12,7 +12,7 @@
 namespace cr {
 namespace {
 
-constexpr int W = 32, H = 24;
+constexpr int kMsW = 32, kMsH = 24;
 
 // A triangle far larger than the image whose edge from (x0, y0) to (x1, y1)
 // (pixels) crosses it: the image sees the half-plane to the edge's right.
@@ -67,13 +67,13 @@ TEST_CASE("multisampling: a sample is covered exactly when its position lies ins
       const glm::dvec2 p0(lattice(2, 30), lattice(2, 22)), p1(lattice(2, 30), lattice(2, 22));
       if (glm::length(p1 - p0) < 4.0) continue;
       const Primitive prim = half_plane(p0, p1);
-      const RasterDraw d = test::draw_of(prim, test::pixel_to_clip(W, H), 0);
+      const RasterDraw d = test::draw_of(prim, test::pixel_to_clip(kMsW, kMsH), 0);
       TiledRasterizer r;
-      r.render_visibility(jobs, W, H, 8, std::span(&d, 1), {}, samples);
+      r.render_visibility(jobs, kMsW, kMsH, 8, std::span(&d, 1), {}, samples);
       const VisibilityBuffer& v = r.visibility();
       int mismatches = 0, tested = 0;
-      for (int y = 0; y < H; ++y)
-        for (int x = 0; x < W; ++x)
+      for (int y = 0; y < kMsH; ++y)
+        for (int x = 0; x < kMsW; ++x)
           for (int s = 0; s < samples; ++s) {
             const glm::dvec2 q(x + 0.5 + pattern.dx(s), y + 0.5 + pattern.dy(s));
             const double e = side(p0, p1, q) / glm::length(p1 - p0);
@@ -102,12 +102,12 @@ TEST_CASE("multisampling: an axis-aligned half-plane's coverage is its area with
       const double e = 10.0 + (k + 0.5) / 32.0;  // never on a sample (multiples of 1/16 from the centre)
       for (bool vertical : {true, false}) {
         const Primitive prim = vertical ? half_plane({e, 0.0}, {e, 1.0}) : half_plane({1.0, e}, {0.0, e});
-        const RasterDraw d = test::draw_of(prim, test::pixel_to_clip(W, H), 0);
+        const RasterDraw d = test::draw_of(prim, test::pixel_to_clip(kMsW, kMsH), 0);
         TiledRasterizer r;
-        r.render_visibility(jobs, W, H, 16, std::span(&d, 1), {}, samples);
+        r.render_visibility(jobs, kMsW, kMsH, 16, std::span(&d, 1), {}, samples);
         const std::vector<int> n = covered_samples(r);
-        for (int y = 0; y < H; ++y)
-          for (int x = 0; x < W; ++x) {
+        for (int y = 0; y < kMsH; ++y)
+          for (int x = 0; x < kMsW; ++x) {
             const double c = vertical ? x : y;  // the pixel spans [c, c + 1) across the edge
             // Covered side: x < e for the vertical edge (interior to the right
             // of the downward direction), y < e for the horizontal one.
@@ -115,9 +115,9 @@ TEST_CASE("multisampling: an axis-aligned half-plane's coverage is its area with
             CAPTURE(samples);
             CAPTURE(e);
             CAPTURE(vertical);
-            CHECK(std::abs(n[size_t(y) * W + x] - samples * area) <= 0.5);
+            CHECK(std::abs(n[size_t(y) * kMsW + x] - samples * area) <= 0.5);
           }
-        edge_error[vertical] += std::abs(n[vertical ? 10 : 10 * W] - samples * (e - 10.0)) / 32.0;
+        edge_error[vertical] += std::abs(n[vertical ? 10 : 10 * kMsW] - samples * (e - 10.0)) / 32.0;
       }
     }
     CAPTURE(samples);
@@ -132,19 +132,19 @@ TEST_CASE("multisampling: alpha-mask coverage is asked at each sample, so mask e
   // w = 1), whose mask keeps x < 12.3 from the barycentrics at the sample.
   const Primitive tri = test::make_primitive({{-1.0f, -50.0f, 0.5f}, {127.0f, -50.0f, 0.5f}, {-1.0f, 200.0f, 0.5f}},
                                              {0, 1, 2});
-  RasterDraw d = test::draw_of(tri, test::pixel_to_clip(W, H), 0);
+  RasterDraw d = test::draw_of(tri, test::pixel_to_clip(kMsW, kMsH), 0);
   d.alpha_mask = true;
   TiledRasterizer r;
   const CoverageFn mask = [](uint32_t, const Barycentrics& b) { return -1.0f + 128.0f * b.b[1] < 12.3f; };
-  r.render_visibility(jobs, W, H, 8, std::span(&d, 1), mask, 4);
+  r.render_visibility(jobs, kMsW, kMsH, 8, std::span(&d, 1), mask, 4);
   const std::vector<int> n = covered_samples(r);
   const SamplePattern p = sample_pattern(4);
-  for (int y = 0; y < H; ++y) {
+  for (int y = 0; y < kMsH; ++y) {
     int expected = 0;
     for (int s = 0; s < 4; ++s) expected += 12.0 + 0.5 + p.dx(s) < 12.3;
-    CHECK(n[size_t(y) * W + 11] == 4);
-    CHECK(n[size_t(y) * W + 12] == expected);
-    CHECK(n[size_t(y) * W + 13] == 0);
+    CHECK(n[size_t(y) * kMsW + 11] == 4);
+    CHECK(n[size_t(y) * kMsW + 12] == expected);
+    CHECK(n[size_t(y) * kMsW + 13] == 0);
   }
   CHECK(0 < n[12]);
   CHECK(n[12] < 4);
@@ -156,24 +156,24 @@ TEST_CASE("multisampling: blended triangles arrive once per pixel with the share
     const SamplePattern p = sample_pattern(samples);
     const double e = 12.3;  // a vertical edge: the half-plane x < e
     const Primitive prim = half_plane({e, 0.0}, {e, 1.0});
-    const RasterDraw d = test::draw_of(prim, test::pixel_to_clip(W, H), 0);
+    const RasterDraw d = test::draw_of(prim, test::pixel_to_clip(kMsW, kMsH), 0);
     TiledRasterizer r;
-    r.render_visibility(jobs, W, H, 8, {}, {}, samples);
-    std::vector<int> calls(size_t(W) * H, 0);
-    std::vector<float> coverage(size_t(W) * H, 0.0f);
+    r.render_visibility(jobs, kMsW, kMsH, 8, {}, {}, samples);
+    std::vector<int> calls(size_t(kMsW) * kMsH, 0);
+    std::vector<float> coverage(size_t(kMsW) * kMsH, 0.0f);
     r.render_blended(jobs, std::span(&d, 1), [&](int x, int y, uint32_t, const Barycentrics&, float c) {
-      ++calls[size_t(y) * W + x];
-      coverage[size_t(y) * W + x] = c;
+      ++calls[size_t(y) * kMsW + x];
+      coverage[size_t(y) * kMsW + x] = c;
     });
     int expected = 0;
     for (int s = 0; s < samples; ++s) expected += 12.5 + p.dx(s) < e;
     CAPTURE(samples);
-    for (int y = 0; y < H; ++y) {
-      CHECK(calls[size_t(y) * W + 5] == 1);
-      CHECK(coverage[size_t(y) * W + 5] == 1.0f);
-      CHECK(calls[size_t(y) * W + 12] == (expected > 0 ? 1 : 0));
-      CHECK(coverage[size_t(y) * W + 12] == float(expected) / float(samples));
-      CHECK(calls[size_t(y) * W + 13] == 0);
+    for (int y = 0; y < kMsH; ++y) {
+      CHECK(calls[size_t(y) * kMsW + 5] == 1);
+      CHECK(coverage[size_t(y) * kMsW + 5] == 1.0f);
+      CHECK(calls[size_t(y) * kMsW + 12] == (expected > 0 ? 1 : 0));
+      CHECK(coverage[size_t(y) * kMsW + 12] == float(expected) / float(samples));
+      CHECK(calls[size_t(y) * kMsW + 13] == 0);
     }
   }
 }
@@ -182,24 +182,24 @@ TEST_CASE("multisampling: sample layers are bit-identical for 1..8 threads and t
   test::Random rng(3);
   Primitive soup;
   for (int t = 0; t < 2000; ++t) {
-    const glm::vec3 c(rng.range(-5, W + 5), rng.range(-5, H + 5), rng.range(0.1f, 0.9f));
+    const glm::vec3 c(rng.range(-5, kMsW + 5), rng.range(-5, kMsH + 5), rng.range(0.1f, 0.9f));
     for (int k = 0; k < 3; ++k) {
       soup.positions.push_back(c + glm::vec3(rng.range(-6, 6), rng.range(-6, 6), rng.range(-0.1f, 0.1f)));
       soup.indices.push_back(uint32_t(soup.positions.size() - 1));
     }
   }
-  RasterDraw d = test::draw_of(soup, test::pixel_to_clip(W, H), 0);
+  RasterDraw d = test::draw_of(soup, test::pixel_to_clip(kMsW, kMsH), 0);
   d.alpha_mask = true;
   const CoverageFn coverage = [](uint32_t, const Barycentrics& b) { return b.b[1] < 0.7f; };
   for (int samples : {4, 8}) {
     JobSystem one(1);
     TiledRasterizer ref;
-    ref.render_visibility(one, W, H, 64, std::span(&d, 1), coverage, samples);
+    ref.render_visibility(one, kMsW, kMsH, 64, std::span(&d, 1), coverage, samples);
     for (unsigned threads = 1; threads <= 8; ++threads) {
       JobSystem jobs(threads);
       for (int tile : {8, 32, 256}) {
         TiledRasterizer r;
-        r.render_visibility(jobs, W, H, tile, std::span(&d, 1), coverage, samples);
+        r.render_visibility(jobs, kMsW, kMsH, tile, std::span(&d, 1), coverage, samples);
         CAPTURE(samples);
         CAPTURE(threads);
         CAPTURE(tile);
@@ -207,8 +207,8 @@ TEST_CASE("multisampling: sample layers are bit-identical for 1..8 threads and t
         // their mean depth), whatever the tiles it was listed by.
         const VisibilityBuffer &a = r.visibility(), &b = ref.visibility();
         int differ = 0;
-        for (int y = 0; y < H; ++y)
-          for (int x = 0; x < W; ++x)
+        for (int y = 0; y < kMsH; ++y)
+          for (int x = 0; x < kMsW; ++x)
             for (int s = 0; s < samples; ++s) {
               const float za = a.sample_depth(x, y, s), zb = b.sample_depth(x, y, s);
               differ += a.sample_triangle(x, y, s) != b.sample_triangle(x, y, s) || std::memcmp(&za, &zb, sizeof za) != 0;

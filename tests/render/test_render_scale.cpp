@@ -26,19 +26,19 @@ cr::Profile desktop(const nlohmann::json& extra, int w, int h) {
   return p;
 }
 
-struct Frame {
+struct ScaledFrame {
   cr::FrameBuffers buffers;
   std::vector<std::string> passes;
   cr::FrameView view;
 };
 
-Frame render(const cr::Profile& profile, bool keep_distances) {
+ScaledFrame render_scaled(const cr::Profile& profile, bool keep_distances) {
   const cr::SceneDescription description = cr::load_scene_description(kScene, {});
   const cr::Scene scene = cr::load_gltf(description.gltf_path);
   cr::JobSystem jobs(2);
   cr::Renderer r(scene, description, profile, {}, jobs);
   r.keep_view_distances(keep_distances);
-  Frame f;
+  ScaledFrame f;
   for (const cr::PassTiming& p : r.render_frame(0).passes) f.passes.push_back(p.name);
   f.buffers = r.buffers();
   f.view = r.frame_view(0);
@@ -50,15 +50,15 @@ bool same_bytes(const std::vector<T>& a, const std::vector<T>& b) {
   return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0;
 }
 
-bool has_pass(const Frame& f, const std::string& name) {
+bool has_pass(const ScaledFrame& f, const std::string& name) {
   return std::find(f.passes.begin(), f.passes.end(), name) != f.passes.end();
 }
 
 }  // namespace
 
 TEST_CASE("render_scale 1 renders exactly the bytes of a profile without the key, with no upscale pass") {
-  const Frame plain = render(desktop(nlohmann::json::object(), 96, 54), true);
-  const Frame one = render(desktop({{"render_scale", 1}}, 96, 54), true);
+  const ScaledFrame plain = render_scaled(desktop(nlohmann::json::object(), 96, 54), true);
+  const ScaledFrame one = render_scaled(desktop({{"render_scale", 1}}, 96, 54), true);
   CHECK_FALSE(has_pass(one, "upscale"));
   CHECK(one.passes == plain.passes);
   CHECK(same_bytes(one.buffers.color, plain.buffers.color));
@@ -70,7 +70,7 @@ TEST_CASE("render_scale 1 renders exactly the bytes of a profile without the key
 }
 
 TEST_CASE("render_scale 0.5: the scene renders at the internal size into output-size buffers through an upscale pass") {
-  const Frame f = render(desktop({{"render_scale", 0.5}}, 96, 54), false);
+  const ScaledFrame f = render_scaled(desktop({{"render_scale", 0.5}}, 96, 54), false);
   CHECK(f.view.width == 48);
   CHECK(f.view.height == 27);
   CHECK(f.view.camera.aspect == doctest::Approx(96.0 / 54.0));  // the output's aspect ratio
@@ -88,7 +88,7 @@ TEST_CASE("render_scale 0.5: the scene renders at the internal size into output-
   CHECK(std::count(f.buffers.depth.begin(), f.buffers.depth.end(), 0.0f) < long(f.buffers.depth.size()));
   CHECK(std::all_of(f.buffers.distance.begin(), f.buffers.distance.end(), [](float d) { return std::isinf(d); }));
   CHECK_FALSE(has_pass(f, "view distance"));
-  const Frame kept = render(desktop({{"render_scale", 0.5}}, 96, 54), true);
+  const ScaledFrame kept = render_scaled(desktop({{"render_scale", 0.5}}, 96, 54), true);
   CHECK(has_pass(kept, "view distance"));
   CHECK(std::any_of(kept.buffers.distance.begin(), kept.buffers.distance.end(), [](float d) { return std::isfinite(d); }));
   CHECK(same_bytes(kept.buffers.color, f.buffers.color));

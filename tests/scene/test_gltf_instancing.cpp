@@ -20,7 +20,7 @@ namespace {
 
 using cr::test::GltfBuilder;
 
-bool close(const glm::mat4& a, const glm::mat4& b, float eps = 1e-5f) {
+bool mat_close(const glm::mat4& a, const glm::mat4& b, float eps = 1e-5f) {
   for (int c = 0; c < 4; ++c)
     for (int r = 0; r < 4; ++r)
       if (std::abs(a[c][r] - b[c][r]) > eps) return false;
@@ -61,7 +61,7 @@ TEST_CASE("instances are placed by node world * translation * rotation * scale")
   };
   for (int i = 0; i < 3; ++i) {
     CAPTURE(i);
-    CHECK(close(scene.draws[i].world, expected[i], 1e-5f));
+    CHECK(mat_close(scene.draws[i].world, expected[i], 1e-5f));
     // World bounds hold the instance's vertices.
     for (const glm::vec3& p : scene.primitive(scene.draws[i]).positions) {
       const glm::vec3 w(expected[i] * glm::vec4(p, 1.0f));
@@ -95,7 +95,7 @@ TEST_CASE("SimpleInstancing draws its 125 cubes at 125 grid positions (CR_ASSETS
   const glm::mat4 expected = glm::translate(glm::mat4(1.0f), glm::vec3(0, 0, 10)) *
                              glm::rotate(glm::mat4(1.0f), glm::radians(90.0f), glm::vec3(0, 0, 1)) *
                              glm::scale(glm::mat4(1.0f), glm::vec3(1, 1, 2));
-  CHECK(close(s.draws[4].world, expected, 1e-5f));
+  CHECK(mat_close(s.draws[4].world, expected, 1e-5f));
   for (const cr::Draw& d : s.draws) {
     CHECK(glm::all(glm::greaterThanEqual(d.world_bounds_min, s.bounds_min)));
     CHECK(glm::all(glm::lessThanEqual(d.world_bounds_max, s.bounds_max)));

@@ -11,7 +11,7 @@
 
 namespace {
 
-const std::string kBad = std::string(CR_TEST_DATA_DIR) + "/bad";
+const std::string kBadScenes = std::string(CR_TEST_DATA_DIR) + "/bad";
 const std::vector<std::string> kPlugins = {"atmosphere", "fog"};
 
 // Writes a scene file next to a valid glTF path ("box.gltf" in the same directory).
@@ -46,7 +46,7 @@ TEST_CASE("a bare glTF path is a scene: camera and sun from the glTF") {
   CHECK_FALSE(d.camera.gltf_camera.has_value());
   CHECK(d.sun.from_gltf);
   CHECK(d.plugins.empty());
-  CHECK_THROWS_AS(cr::load_scene_description(kBad + "/does_not_exist.glb", kPlugins), cr::InputError);
+  CHECK_THROWS_AS(cr::load_scene_description(kBadScenes + "/does_not_exist.glb", kPlugins), cr::InputError);
 }
 
 TEST_CASE("scene file with a static camera, a fixed sun and plugin sections") {
@@ -107,13 +107,13 @@ TEST_CASE("scene file with camera and sun keys, and with a glTF camera and sun")
 }
 
 TEST_CASE("scene file errors name the file and the field") {
-  CHECK(error_of(kBad + "/scene_unknown_key.json").find("unknown key 'sunn'") != std::string::npos);
-  CHECK(error_of(kBad + "/scene_bad_vfov.json").find("camera.vfov_deg") != std::string::npos);
-  CHECK(error_of(kBad + "/scene_keys_not_increasing.json").find("camera.keys[1].frame") != std::string::npos);
-  CHECK(error_of(kBad + "/scene_missing_gltf.json").find("'gltf'") != std::string::npos);
-  CHECK(error_of(kBad + "/scene_bad_elevation.json").find("sun.elevation_deg") != std::string::npos);
-  CHECK(error_of(kBad + "/scene_malformed.json").find("line 3") != std::string::npos);
-  CHECK(error_of(kBad + "/scene_deep_plugin.json").find("more than 128 levels deep") != std::string::npos);
+  CHECK(error_of(kBadScenes + "/scene_unknown_key.json").find("unknown key 'sunn'") != std::string::npos);
+  CHECK(error_of(kBadScenes + "/scene_bad_vfov.json").find("camera.vfov_deg") != std::string::npos);
+  CHECK(error_of(kBadScenes + "/scene_keys_not_increasing.json").find("camera.keys[1].frame") != std::string::npos);
+  CHECK(error_of(kBadScenes + "/scene_missing_gltf.json").find("'gltf'") != std::string::npos);
+  CHECK(error_of(kBadScenes + "/scene_bad_elevation.json").find("sun.elevation_deg") != std::string::npos);
+  CHECK(error_of(kBadScenes + "/scene_malformed.json").find("line 3") != std::string::npos);
+  CHECK(error_of(kBadScenes + "/scene_deep_plugin.json").find("more than 128 levels deep") != std::string::npos);
 
   CHECK(error_of(write_scene("no_gltf.json", {{"frames", 2}})).find("'gltf' is required") != std::string::npos);
   CHECK(error_of(write_scene("nested_unknown.json", {{"gltf", "scene_box.gltf"},
@@ -171,7 +171,7 @@ TEST_CASE("scene file animation key: by index or name, with a time; strict") {
 // Found by fuzz_scene: a 'gltf' name longer than a file name may be made
 // std::filesystem throw filesystem_error ("File name too long") past the loader.
 TEST_CASE("a scene whose gltf name cannot be looked up says the file does not exist") {
-  const std::string path = kBad + "/fuzz_scene_gltf_name_too_long.json";
+  const std::string path = kBadScenes + "/fuzz_scene_gltf_name_too_long.json";
   CHECK(error_of(path).find(path + ": 'gltf' names a file that does not exist (looked for ") == 0);
   const std::string too_long = write_scene("long_name.json", {{"gltf", std::string(5000, 'a') + ".glb"}});
   CHECK(error_of(too_long).find("'gltf' names a file that does not exist") != std::string::npos);

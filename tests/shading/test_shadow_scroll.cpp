@@ -17,7 +17,7 @@ bool in_rects(const std::vector<PixelRect>& rects, int x, int y) {
   return false;
 }
 
-glm::vec3 sun_from(float elevation_deg, float azimuth_deg) {
+glm::vec3 scroll_sun_from(float elevation_deg, float azimuth_deg) {
   const float e = glm::radians(elevation_deg), a = glm::radians(azimuth_deg);
   return {std::cos(e) * std::cos(a), std::sin(e), std::cos(e) * std::sin(a)};
 }
@@ -139,7 +139,7 @@ TEST_CASE("shadow scroll: the scrolled image holds each kept texel's old value, 
 }
 
 TEST_CASE("shadow scroll: a moving camera under a still sun scrolls, anything else renders whole") {
-  const glm::vec3 sun = sun_from(20.0f, 40.0f);
+  const glm::vec3 sun = scroll_sun_from(20.0f, 40.0f);
   const glm::vec3 lo(-100.0f, 0.0f, -100.0f), hi(100.0f, 10.0f, 100.0f);
   const ShadowFit f0 = fit_shadow_view(camera_at(0), sun, 60.0f, 512, lo, hi);
   const double margin = -f0.need_min;
@@ -169,7 +169,7 @@ TEST_CASE("shadow scroll: a moving camera under a still sun scrolls, anything el
   CHECK_FALSE(plan_shadow_update(plan_shadow_update(ShadowMap{}, f0, 1, 0.0).map, f_away, 1, 0.0).scroll);
   CHECK(plan_shadow_update(m0, f_away, 1, margin).scroll);
   // Another sun, another size, another PCF radius, a jump past the map.
-  CHECK_FALSE(plan_shadow_update(m0, fit_shadow_view(camera_at(1), sun_from(21.0f, 40.0f), 60.0f, 512, lo, hi), 1,
+  CHECK_FALSE(plan_shadow_update(m0, fit_shadow_view(camera_at(1), scroll_sun_from(21.0f, 40.0f), 60.0f, 512, lo, hi), 1,
                                  margin).scroll);
   CHECK_FALSE(plan_shadow_update(m0, fit_shadow_view(camera_at(1), sun, 60.0f, 256, lo, hi), 1, margin).scroll);
   CHECK_FALSE(plan_shadow_update(m0, f1, 2, margin).scroll);
@@ -180,7 +180,7 @@ TEST_CASE("shadow scroll: a moving camera under a still sun scrolls, anything el
 
 TEST_CASE("shadow scroll: a map scrolled over ten frames equals a full render of the same projection") {
   const Terrain terrain;
-  const glm::vec3 sun = sun_from(9.0f, 155.0f);
+  const glm::vec3 sun = scroll_sun_from(9.0f, 155.0f);
   constexpr int S = 512, kTile = 32;
   JobSystem jobs(2);
   TiledRasterizer scrolled_raster, full_raster;

@@ -74,7 +74,7 @@ Material material(float base, float metallic, float roughness) {
   return m;
 }
 
-SurfaceSample flat_sample() {
+SurfaceSample flat_env_sample() {
   SurfaceSample s;
   s.normal = {0, 1, 0};
   s.tangent = {1, 0, 0, 1};
@@ -227,7 +227,7 @@ TEST_CASE("specular environment: a white furnace keeps radiance 1 at every level
       // independent quadrature of the BRDF within the table's error plus
       // its bilinear interpolation (8e-3).
       const EnvironmentBrdf dfg = environment_brdf(r, nv);
-      const glm::vec4 metal = shade_surface(in, material(1.0f, 1.0f, r), flat_sample());
+      const glm::vec4 metal = shade_surface(in, material(1.0f, 1.0f, r), flat_env_sample());
       CHECK(metal.r == doctest::Approx(dfg.a + dfg.b).epsilon(1e-5));
       CHECK(std::abs(metal.r - directional_albedo({glm::vec3(1.0f), 1.0f, r}, nv)) < 8e-3f);
       // White dielectric: the split keeps what the specular lobe takes from
@@ -236,7 +236,7 @@ TEST_CASE("specular environment: a white furnace keeps radiance 1 at every level
       // at roughness >= 0.6 and n.v >= 0.17 (measured 4.6% at 0.6 / 0.17:
       // its rough lobe loses a little, its diffuse weight 1 - F(v.h) gains
       // a little towards grazing).
-      const glm::vec4 dielectric = shade_surface(in, material(1.0f, 0.0f, r), flat_sample());
+      const glm::vec4 dielectric = shade_surface(in, material(1.0f, 0.0f, r), flat_env_sample());
       CHECK(dielectric.r == doctest::Approx(1.0f).epsilon(1e-5));
       if (r >= 0.6f)
         CHECK(std::abs(dielectric.r - directional_albedo({glm::vec3(1.0f), 0.0f, r}, nv)) < 5e-2f);
@@ -386,7 +386,7 @@ TEST_CASE("shade: with an environment, a smooth metal reflects it and SurfaceSha
   const ShadingInputs in{&scene, &light, nullptr, camera};
   // Smooth white metal facing the camera along the normal: the mirror
   // direction is the view direction itself; it reflects L(R) * (A + B).
-  SurfaceSample s = flat_sample();
+  SurfaceSample s = flat_env_sample();
   s.normal = glm::normalize(glm::vec3(camera));
   const glm::vec3 r = s.normal;
   light.sun_illuminance = glm::vec3(0.0f);
@@ -404,7 +404,7 @@ TEST_CASE("shade: with an environment, a smooth metal reflects it and SurfaceSha
   ShadingBatch batch;
   std::vector<glm::vec4> single;
   for (int i = 0; i < 40; ++i) {
-    SurfaceSample p = flat_sample();
+    SurfaceSample p = flat_env_sample();
     p.position = glm::vec3(float(i) * 0.1f, 0.0f, float(i % 7) * 0.2f);
     p.normal = glm::normalize(glm::vec3(std::sin(float(i)), 1.0f, std::cos(float(i) * 0.7f)));
     const Material m = material(0.2f + 0.02f * float(i), float(i % 3) * 0.5f, float(i % 5) * 0.25f);
