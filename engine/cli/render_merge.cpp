@@ -12,6 +12,32 @@ namespace cr {
 
 namespace fs = std::filesystem;
 
+namespace {
+
+// The shards' Chrome traces as one, each shard a process of its own (its
+// clock starts at its own first frame): the rows a single run's trace has,
+// once per shard.
+void merge_traces(const std::vector<ShardDir>& shards, const std::string& out) {
+  nlohmann::json events = nlohmann::json::array();
+  for (size_t k = 0; k < shards.size(); ++k) {
+    const std::string file = shards[k].dir + "/trace.json";
+    if (!fs::exists(file)) return;  // a shard ran with --no-trace: no merged trace
+    nlohmann::json trace = nlohmann::json::parse(read_file_bytes(file), nullptr, false);
+    if (!trace.is_object() || !trace.contains("traceEvents") || !trace["traceEvents"].is_array())
+      throw InputError(file, "not a Chrome trace");
+    for (nlohmann::json& e : trace["traceEvents"]) {
+      if (!e.is_object()) continue;
+      e["pid"] = k + 1;
+      if (e.value("name", "") == "process_name" && e.value("ph", "") == "M")
+        e["args"]["name"] = "shard " + shards[k].manifest.shard.label() + " (" + shards[k].manifest.host + ")";
+      events.push_back(std::move(e));
+    }
+  }
+  write_file_atomic(out + "/trace.json", nlohmann::json{{"traceEvents", std::move(events)}}.dump() + "\n");
+}
+
+}  // namespace
+
 int merge_render(const std::vector<ShardDir>& shards, const std::string& out) {
   fs::create_directories(out);
   nlohmann::json merged, frames = nlohmann::json::array(), parts = nlohmann::json::array();
@@ -55,6 +81,7 @@ int merge_render(const std::vector<ShardDir>& shards, const std::string& out) {
   merged["extra"]["render"]["shard"] = "merged";
   merged["extra"]["render"]["shards"] = parts;
   write_merge_record(shards, out);
+  merge_traces(shards, out);
   write_file_atomic(out + "/report.json", merged.dump(2) + "\n");
   std::cout << format_summary(merged) << "merged " << shards.size() << " shards: " << files << " frame files and "
             << out << "/report.json\n";

@@ -171,9 +171,10 @@ TEST_CASE("sharded render: 3 blocks of the fog flythrough equal the unsharded fr
   cr::test::ScratchDir dir("shard-render");
   const cr::PluginRegistry registry = plugins();
   const std::string scene = binary_file("scenes/fog_valley_flythrough.json");
-  auto run = [&](const std::string& out, std::vector<std::string> extra) {
+  auto run = [&](const std::string& out, std::vector<std::string> extra, bool trace = false) {
     std::vector<std::string> args = {scene, "--profile", binary_file("profiles/desktop.json"), "--resolution", "48x27", "--frames", "9", "--threads", "2",
-                                     "--format", "png", "--no-trace", "--quiet", "--out", out};
+                                     "--format", "png", "--quiet", "--out", out};
+    if (!trace) args.push_back("--no-trace");
     args.insert(args.end(), extra.begin(), extra.end());
     return cr::render_command(args, registry);
   };
@@ -201,9 +202,14 @@ TEST_CASE("sharded render: 3 blocks of the fog flythrough equal the unsharded fr
 
   // More shards than frames: the empty blocks render nothing and still merge.
   for (const char* shard : {"0/4", "1/4", "2/4", "3/4"})
-    REQUIRE(run(dir.file(std::string("e") + shard[0]), {"--shard", shard, "--frames", "2"}) == 0);
+    REQUIRE(run(dir.file(std::string("e") + shard[0]), {"--shard", shard, "--frames", "2"}, true) == 0);
   REQUIRE(cr::merge_command({dir.file("e0"), dir.file("e1"), dir.file("e2"), dir.file("e3"), "--out", dir.file("me")}) == 0);
   CHECK(cr::load_json_file(dir.file("me") + "/report.json")["frames"].size() == 2);
+  // One trace, a process per shard.
+  const nlohmann::json trace = cr::load_json_file(dir.file("me") + "/trace.json");
+  std::set<int> pids;
+  for (const nlohmann::json& e : trace.value("traceEvents", nlohmann::json::array())) pids.insert(e.value("pid", 0));
+  CHECK(pids == std::set<int>{1, 2, 3, 4});
   CHECK(same_frames(dir.file("whole"), dir.file("me"), 0, 2));
 
   // A short explicit warm-up: the block's first frame starts from a cold
